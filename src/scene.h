@@ -1,0 +1,89 @@
+/* Scene: what is simulated (pieces, fabrics, gravity, run-level defaults), read from a YAML file.
+
+   The Scene is plain data once created: modules read its fields directly and never modify them,
+   except the driver, which may apply command-line overrides (-grid) before the cloth is built. */
+#pragma once
+#include <petscsys.h>
+#include "util.h"
+
+typedef enum {
+  CLOTH_SHEAR_LINK,  /* diagonal links in every grid cell (the paper's "particle 2") */
+  CLOTH_SHEAR_ANGLE  /* springs on the warp-weft angle at every cell corner */
+} ClothShearModel;
+extern const char *const ClothShearModels[];
+
+typedef enum {
+  CLOTH_BEND_LINK,  /* links between particles two steps apart along a thread (the paper's "particle 3") */
+  CLOTH_BEND_ANGLE  /* springs on the angle between consecutive thread segments */
+} ClothBendModel;
+extern const char *const ClothBendModels[];
+
+typedef enum {
+  CLOTH_MASS_AREA,    /* each particle carries density x its share of the cell areas (default) */
+  CLOTH_MASS_UNIFORM  /* every particle of a piece carries density x piece area / particle count */
+} ClothMassDistribution;
+extern const char *const ClothMassDistributions[];
+
+/* A fabric's material data. Stiffnesses are per unit width (membrane moduli), so that the model's
+   coefficients follow from the local grid spacing (see fabric.h). */
+typedef struct {
+  char                  name[CLOTH_NAME_LEN];
+  PetscReal             density;                   /* areal density, kg/m^2 (> 0) */
+  PetscReal             stretch_warp;              /* tensile 2D modulus along the warp (u, i) threads, N/m (> 0) */
+  PetscReal             stretch_weft;              /* the same along the weft (v, j) threads, N/m (> 0) */
+  PetscReal             shear;                     /* in-plane shear modulus, N/m (>= 0) */
+  ClothShearModel       shear_model;
+  PetscReal             bend_warp, bend_weft;      /* link model: N/m per skip-one link; angle model: bending rigidity, N m (>= 0) */
+  ClothBendModel        bend_model;
+  PetscReal             damping;                   /* mass-proportional damping rate, 1/s (>= 0): force -damping m v */
+  PetscReal             repulsion;                 /* stretch links repel below this fraction of their rest length (0 = off, < 1) */
+  PetscReal             repulsion_stiffness;       /* stiffness of that repulsion relative to the link's stretch stiffness (>= 0) */
+} SceneFabric;
+
+/* A flat pattern piece: a logical grid of nu x nv particles (i along u = warp, j along v = weft),
+   particle (i, j) numbered j*nu + i within the piece ("row by row"). */
+typedef struct {
+  char                  name[CLOTH_NAME_LEN];
+  PetscInt              fabric;        /* index into Scene.fabrics */
+  PetscInt              nu, nv;        /* grid size (>= 2 each) */
+  PetscReal             size[2];       /* rectangle: extent along u and v, m */
+  PetscReal             origin[3];     /* 3D position of particle (0, 0), m */
+  PetscReal             u_axis[3];     /* unit 3D direction of increasing i (normalised by the reader) */
+  PetscReal             v_axis[3];     /* unit 3D direction of increasing j (normalised, orthogonal to u_axis) */
+  ClothMassDistribution mass_distribution;
+  PetscInt              npins;
+  PetscInt             *pins;          /* 2*npins grid indices (i, j), already resolved to 0 <= i < nu, 0 <= j < nv */
+  PetscInt             *pins_given;    /* 2*npins indices exactly as written (negative counts from the end), for -grid */
+} ScenePiece;
+
+typedef struct {
+  char        integrator[CLOTH_NAME_LEN]; /* "" when the scene gives no default */
+  PetscReal   dt;                         /* 0 when not given */
+  PetscReal   t_final;                    /* 0 when not given */
+  PetscInt    steps;                      /* 0 when not given */
+  PetscInt    output_every;               /* 0 when not given */
+  PetscInt    checkpoint_every;           /* 0 when not given */
+} SceneRunDefaults;
+
+typedef struct _n_Scene *Scene;
+struct _n_Scene {
+  char             path[CLOTH_PATH_LEN]; /* the file it was read from */
+  char             name[CLOTH_NAME_LEN]; /* scene name (defaults to the file's base name without .yaml) */
+  PetscReal        gravity[3];           /* m/s^2 */
+  PetscInt         nfabrics;
+  SceneFabric     *fabrics;
+  PetscInt         npieces;
+  ScenePiece      *pieces;
+  SceneRunDefaults run;
+  PetscBool        single_grid;          /* exactly one rectangular piece: -grid N may resize it */
+  PetscInt64       fingerprint;          /* FNV-1a hash of the file bytes (mixed with -grid), kept in checkpoints */
+};
+
+/* Reads and validates a scene file. Collective on comm: rank 0 reads the bytes, every rank parses
+   the same bytes, so every rank fails (or succeeds) alike. Errors name the file, line, key and
+   what was expected. */
+PetscErrorCode SceneCreateFromFile(MPI_Comm comm, const char path[], Scene *scene);
+/* Resizes the single rectangular piece to n x n particles; pins given with negative indices follow the edges. */
+PetscErrorCode SceneSetGridSize(Scene scene, PetscInt n);
+PetscErrorCode SceneView(Scene scene, PetscViewer viewer);
+PetscErrorCode SceneDestroy(Scene *scene);
