@@ -1,0 +1,27 @@
+/* ClothOutput: the XDMF + HDF5 time series that ParaView opens (DIR/NAME.xdmf + DIR/NAME.h5).
+
+   Vectors passed in are in the *natural* (global particle) order of DESIGN.md: pieces in scene order,
+   each piece row by row, with PETSc's default contiguous layout and block size 3, so that every rank
+   writes one contiguous hyperslab. */
+#pragma once
+#include <petscvec.h>
+#include "util.h"
+
+typedef struct _n_ClothOutput *ClothOutput;
+
+/* Fabric topology: nquads quadrilaterals, 4 global particle indices each, counter-clockwise.
+   Every rank passes the same full array (it is small next to the state). */
+typedef struct {
+  PetscInt        nparticles;
+  PetscInt        nquads;
+  const PetscInt *quads;
+} ClothOutputTopology;
+
+/* Opens the series. If restart_time >= 0 the existing series is kept up to and including that time
+   and later frames are dropped (a restarted run then appends with no duplicated or missing times);
+   otherwise any previous series under that name is replaced. Collective. */
+PetscErrorCode ClothOutputCreate(MPI_Comm comm, const char dir[], const char name[], const ClothOutputTopology *topology, PetscReal restart_time, ClothOutput *out);
+/* Appends one frame: positions and velocities (natural order) at (step, time); rewrites the .xdmf so
+   that it is complete after every frame. Collective. */
+PetscErrorCode ClothOutputWriteFrame(ClothOutput out, PetscInt step, PetscReal time, Vec position, Vec velocity);
+PetscErrorCode ClothOutputDestroy(ClothOutput *out);
