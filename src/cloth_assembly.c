@@ -1,0 +1,322 @@
+/* Cloth: forces, implicit system and energies (see cloth.h). One loop over this rank's interactions
+   serves them all, so forces and stiffness always come from the same element evaluation. */
+#include "cloth_impl.h"
+#include "log.h"
+
+#define CLOTH_MAX_ELEMENT_PARTICLES 3
+
+/* What one pass over the interactions accumulates (NULL / PETSC_FALSE: not wanted). */
+typedef struct {
+  PetscScalar       *force;    /* local form (owned + ghosts), 3 per particle */
+  PetscScalar       *kv;       /* K v, local form */
+  const PetscScalar *velocity; /* local form, needed for kv */
+  Mat                A;        /* receives h^2 K, filtered */
+  PetscReal          h2;
+  PetscBool          energy_wanted;
+  PetscReal          energy;
+  PetscBool          psd;      /* clamp the stiffness to its positive semidefinite part */
+} ClothEvaluation;
+
+/* Element data in a common form: np particles, forces (3 np), Hessian (3np x 3np, row-major). */
+typedef struct {
+  PetscInt  np;
+  PetscInt  p[CLOTH_MAX_ELEMENT_PARTICLES];
+  PetscReal energy;
+  PetscReal force[3 * CLOTH_MAX_ELEMENT_PARTICLES];
+  PetscReal H[9 * CLOTH_MAX_ELEMENT_PARTICLES * CLOTH_MAX_ELEMENT_PARTICLES];
+} ClothElement;
+
+static PetscErrorCode EvaluateLink(const ClothLink *link, const PetscScalar *x, PetscBool want_h, PetscBool psd, ClothElement *e)
+{
+  PetscReal f1[3], K[9];
+
+  PetscFunctionBeginUser;
+  e->np   = 2;
+  e->p[0] = link->p[0];
+  e->p[1] = link->p[1];
+  PetscCall(ClothLinkEvaluate(link, &x[3 * link->p[0]], &x[3 * link->p[1]], psd, &e->energy, f1, want_h ? K : NULL));
+  for (PetscInt c = 0; c < 3; c++) {
+    e->force[c]     = -f1[c];
+    e->force[3 + c] = f1[c];
+  }
+  if (want_h)
+    for (PetscInt r = 0; r < 3; r++)
+      for (PetscInt c = 0; c < 3; c++) {
+        const PetscReal k = K[3 * r + c];
+        e->H[6 * r + c]             = k;
+        e->H[6 * r + 3 + c]         = -k;
+        e->H[6 * (3 + r) + c]       = -k;
+        e->H[6 * (3 + r) + 3 + c]   = k;
+      }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode EvaluateAngle(const ClothAngle *angle, const PetscScalar *x, PetscBool want_h, PetscBool psd, ClothElement *e)
+{
+  PetscFunctionBeginUser;
+  e->np = 3;
+  for (PetscInt k = 0; k < 3; k++) e->p[k] = angle->p[k];
+  PetscCall(ClothAngleEvaluate(angle, &x[3 * angle->p[0]], &x[3 * angle->p[1]], &x[3 * angle->p[2]], psd, &e->energy, e->force, want_h ? e->H : NULL));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Adds one element's contributions to what the evaluation wants. */
+static PetscErrorCode AccumulateElement(Cloth cloth, ClothElement *e, ClothEvaluation *ev)
+{
+  const PetscInt n = 3 * e->np;
+
+  PetscFunctionBeginUser;
+  if (ev->energy_wanted) ev->energy += e->energy;
+  if (ev->force)
+    for (PetscInt k = 0; k < e->np; k++)
+      for (PetscInt c = 0; c < 3; c++) ev->force[3 * e->p[k] + c] += e->force[3 * k + c];
+  if (ev->kv)
+    for (PetscInt r = 0; r < n; r++) {
+      PetscReal sum = 0;
+      for (PetscInt q = 0; q < n; q++) sum += e->H[n * r + q] * ev->velocity[3 * e->p[q / 3] + q % 3];
+      ev->kv[3 * e->p[r / 3] + r % 3] += sum;
+    }
+  if (ev->A) {
+    /* Filter: rows and columns of fixed particles drop out (their identity goes on the diagonal). */
+    for (PetscInt r = 0; r < n; r++)
+      for (PetscInt q = 0; q < n; q++) e->H[n * r + q] = (cloth->fixed[e->p[r / 3]] || cloth->fixed[e->p[q / 3]]) ? 0.0 : ev->h2 * e->H[n * r + q];
+    PetscCall(MatSetValuesBlockedLocal(ev->A, e->np, e->p, e->np, e->p, e->H, ADD_VALUES));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* One pass over this rank's interactions at local positions x. */
+static PetscErrorCode ClothEvaluateInteractions(Cloth cloth, const PetscScalar *x, ClothEvaluation *ev)
+{
+  const PetscBool want_h = (ev->kv || ev->A) ? PETSC_TRUE : PETSC_FALSE;
+  ClothElement    e;
+
+  PetscFunctionBeginUser;
+  for (PetscInt l = 0; l < cloth->nlinks; l++) {
+    PetscCall(EvaluateLink(&cloth->links[l], x, want_h, ev->psd, &e));
+    PetscCall(AccumulateElement(cloth, &e, ev));
+  }
+  for (PetscInt a = 0; a < cloth->nangles; a++) {
+    PetscCall(EvaluateAngle(&cloth->angles[a], x, want_h, ev->psd, &e));
+    PetscCall(AccumulateElement(cloth, &e, ev));
+  }
+  PetscCall(PetscLogFlops(60.0 * cloth->nlinks + 400.0 * cloth->nangles));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode GhostRefresh(Vec v)
+{
+  PetscFunctionBeginUser;
+  PetscCall(VecGhostUpdateBegin(v, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecGhostUpdateEnd(v, INSERT_VALUES, SCATTER_FORWARD));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode GhostSumBack(Vec v)
+{
+  PetscFunctionBeginUser;
+  PetscCall(VecGhostUpdateBegin(v, ADD_VALUES, SCATTER_REVERSE));
+  PetscCall(VecGhostUpdateEnd(v, ADD_VALUES, SCATTER_REVERSE));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Gravity and damping on owned particles, added to the internal forces. */
+static PetscErrorCode AddBodyForces(Cloth cloth, const PetscScalar *v, PetscScalar *f)
+{
+  PetscFunctionBeginUser;
+  for (PetscInt i = 0; i < cloth->nlocal; i++)
+    for (PetscInt c = 0; c < 3; c++) f[3 * i + c] += cloth->mass[i] * cloth->scene->gravity[c] - cloth->damping[i] * v[3 * i + c];
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Evaluates the interactions with ghosts refreshed before and force (and kv) summed back after;
+   then adds the body forces. */
+static PetscErrorCode ClothEvaluate(Cloth cloth, Vec position, Vec velocity, Vec force, Vec kv, ClothEvaluation *ev)
+{
+  Vec                xl, vl, fl, kvl = NULL;
+  const PetscScalar *x, *v;
+  PetscScalar       *f, *k = NULL;
+
+  PetscFunctionBeginUser;
+  PetscCall(GhostRefresh(position));
+  PetscCall(GhostRefresh(velocity));
+  PetscCall(VecGhostGetLocalForm(position, &xl));
+  PetscCall(VecGhostGetLocalForm(velocity, &vl));
+  PetscCall(VecGhostGetLocalForm(force, &fl));
+  PetscCheck(fl, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONG, "The force vector must be ghosted: create it with ClothCreateStateVec");
+  PetscCall(VecZeroEntries(fl));
+  PetscCall(VecGetArrayRead(xl, &x));
+  PetscCall(VecGetArrayRead(vl, &v));
+  PetscCall(VecGetArray(fl, &f));
+  if (kv) {
+    PetscCall(VecGhostGetLocalForm(kv, &kvl));
+    PetscCall(VecZeroEntries(kvl));
+    PetscCall(VecGetArray(kvl, &k));
+  }
+  ev->force    = f;
+  ev->kv       = k;
+  ev->velocity = v;
+  PetscCall(ClothEvaluateInteractions(cloth, x, ev));
+  if (kv) {
+    PetscCall(VecRestoreArray(kvl, &k));
+    PetscCall(VecGhostRestoreLocalForm(kv, &kvl));
+  }
+  PetscCall(VecRestoreArray(fl, &f));
+  PetscCall(VecRestoreArrayRead(vl, &v));
+  PetscCall(VecRestoreArrayRead(xl, &x));
+  PetscCall(VecGhostRestoreLocalForm(force, &fl));
+  PetscCall(VecGhostRestoreLocalForm(velocity, &vl));
+  PetscCall(VecGhostRestoreLocalForm(position, &xl));
+  PetscCall(GhostSumBack(force));
+  if (kv) PetscCall(GhostSumBack(kv));
+  PetscCall(VecGetArrayRead(velocity, &v));
+  PetscCall(VecGetArray(force, &f));
+  PetscCall(AddBodyForces(cloth, v, f));
+  PetscCall(VecRestoreArray(force, &f));
+  PetscCall(VecRestoreArrayRead(velocity, &v));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothComputeForces(Cloth cloth, Vec position, Vec velocity, Vec force)
+{
+  ClothEvaluation ev = {0};
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscLogEventBegin(ClothLog.forces, 0, 0, 0, 0));
+  PetscCall(ClothEvaluate(cloth, position, velocity, force, NULL, &ev));
+  PetscCall(PetscLogEventEnd(ClothLog.forces, 0, 0, 0, 0));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Diagonal blocks: S (m + h c) I S + (I - S) for every owned particle. */
+static PetscErrorCode AddDiagonalBlocks(Cloth cloth, PetscReal h, Mat A)
+{
+  PetscFunctionBeginUser;
+  for (PetscInt i = 0; i < cloth->nlocal; i++) {
+    const PetscReal d        = cloth->fixed[i] ? 1.0 : cloth->mass[i] + h * cloth->damping[i];
+    const PetscReal block[9] = {d, 0, 0, 0, d, 0, 0, 0, d};
+    PetscCall(MatSetValuesBlockedLocal(A, 1, &i, 1, &i, block, ADD_VALUES));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothAssembleImplicitSystem(Cloth cloth, PetscReal h, Vec position, Vec velocity, Mat A, Vec rhs)
+{
+  ClothEvaluation ev = {0};
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscLogEventBegin(ClothLog.jacobian, 0, 0, 0, 0));
+  PetscCall(MatZeroEntries(A));
+  ev.A   = A;
+  ev.h2  = h * h;
+  ev.psd = cloth->exact_stiffness ? PETSC_FALSE : PETSC_TRUE;
+  PetscCall(ClothEvaluate(cloth, position, velocity, cloth->work_force, cloth->work_kv, &ev));
+  PetscCall(AddDiagonalBlocks(cloth, h, A));
+  PetscCall(MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY));
+  /* rhs = h (F - h K v), filtered, while the matrix assembly communicates */
+  PetscCall(VecAXPBYPCZ(rhs, h, -h * h, 0.0, cloth->work_force, cloth->work_kv));
+  PetscCall(ClothApplyConstraints(cloth, rhs));
+  PetscCall(MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY));
+  PetscCall(PetscLogEventEnd(ClothLog.jacobian, 0, 0, 0, 0));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothApplyConstraints(Cloth cloth, Vec v)
+{
+  PetscScalar *a;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecGetArray(v, &a));
+  for (PetscInt i = 0; i < cloth->nlocal; i++)
+    if (cloth->fixed[i])
+      for (PetscInt c = 0; c < 3; c++) a[3 * i + c] = 0;
+  PetscCall(VecRestoreArray(v, &a));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothComputeEnergy(Cloth cloth, Vec position, Vec velocity, ClothEnergy *energy)
+{
+  ClothEvaluation    ev = {0};
+  const PetscScalar *x, *v;
+  PetscReal          local[3] = {0, 0, 0}, global[3];
+
+  PetscFunctionBeginUser;
+  ev.energy_wanted = PETSC_TRUE;
+  PetscCall(ClothEvaluate(cloth, position, velocity, cloth->work_force, NULL, &ev));
+  local[2] = ev.energy;
+  PetscCall(VecGetArrayRead(position, &x));
+  PetscCall(VecGetArrayRead(velocity, &v));
+  for (PetscInt i = 0; i < cloth->nlocal; i++)
+    for (PetscInt c = 0; c < 3; c++) {
+      local[0] += 0.5 * cloth->mass[i] * v[3 * i + c] * v[3 * i + c];
+      local[1] -= cloth->mass[i] * cloth->scene->gravity[c] * x[3 * i + c];
+    }
+  PetscCall(VecRestoreArrayRead(velocity, &v));
+  PetscCall(VecRestoreArrayRead(position, &x));
+  PetscCallMPI(MPI_Allreduce(local, global, 3, MPIU_REAL, MPIU_SUM, cloth->comm));
+  energy->kinetic = global[0];
+  energy->gravity = global[1];
+  energy->elastic = global[2];
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Block nonzeros per owned row: the particle itself and its neighbours, split into the diagonal
+   (owned) and off-diagonal parts, and the same for the upper triangle (for SBAIJ). */
+static PetscErrorCode CountRowBlocks(Cloth cloth, PetscInt dnnz[], PetscInt onnz[], PetscInt dnnzu[], PetscInt onnzu[])
+{
+  const PetscInt rend = cloth->rstart + cloth->nlocal;
+
+  PetscFunctionBeginUser;
+  for (PetscInt i = 0; i < cloth->nlocal; i++) {
+    const PetscInt g = cloth->natural_of_local[i], row = cloth->rstart + i;
+    dnnz[i] = dnnzu[i] = 1;
+    onnz[i] = onnzu[i] = 0;
+    for (PetscInt k = cloth->xadj[g]; k < cloth->xadj[g + 1]; k++) {
+      const PetscInt  col   = cloth->solver_of_natural[cloth->adjncy[k]];
+      const PetscBool owned = (col >= cloth->rstart && col < rend) ? PETSC_TRUE : PETSC_FALSE;
+      if (owned) dnnz[i]++;
+      else onnz[i]++;
+      if (col > row) {
+        if (owned) dnnzu[i]++;
+        else onnzu[i]++;
+      }
+    }
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothCreateMatrix(Cloth cloth, Mat *A)
+{
+  PetscInt              *dnnz, *onnz, *dnnzu, *onnzu;
+  ISLocalToGlobalMapping l2g;
+  PetscBool              sbaij;
+
+  PetscFunctionBeginUser;
+  PetscCall(MatCreate(cloth->comm, A));
+  PetscCall(MatSetSizes(*A, 3 * cloth->nlocal, 3 * cloth->nlocal, 3 * cloth->nglobal, 3 * cloth->nglobal));
+  PetscCall(MatSetBlockSize(*A, 3));
+  PetscCall(MatSetType(*A, MATBAIJ));
+  PetscCall(MatSetOptionsPrefix(*A, "implicit_"));
+  PetscCall(MatSetFromOptions(*A));
+  PetscCall(PetscMalloc4(cloth->nlocal, &dnnz, cloth->nlocal, &onnz, cloth->nlocal, &dnnzu, cloth->nlocal, &onnzu));
+  PetscCall(CountRowBlocks(cloth, dnnz, onnz, dnnzu, onnzu));
+  PetscCall(MatXAIJSetPreallocation(*A, 3, dnnz, onnz, dnnzu, onnzu));
+  PetscCall(PetscFree4(dnnz, onnz, dnnzu, onnzu));
+  PetscCall(VecGetLocalToGlobalMapping(cloth->position, &l2g));
+  PetscCall(MatSetLocalToGlobalMapping(*A, l2g, l2g));
+  PetscCall(MatSetOption(*A, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
+  PetscCall(PetscObjectTypeCompareAny((PetscObject)*A, &sbaij, MATSBAIJ, MATSEQSBAIJ, MATMPISBAIJ, ""));
+  if (sbaij) PetscCall(MatSetOption(*A, MAT_IGNORE_LOWER_TRIANGULAR, PETSC_TRUE));
+  else {
+    PetscCall(MatSetOption(*A, MAT_SYMMETRIC, PETSC_TRUE));
+    PetscCall(MatSetOption(*A, MAT_SYMMETRY_ETERNAL, PETSC_TRUE));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothSetExactStiffness(Cloth cloth, PetscBool exact)
+{
+  PetscFunctionBeginUser;
+  cloth->exact_stiffness = exact;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}

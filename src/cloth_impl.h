@@ -1,0 +1,32 @@
+/* Private: the body of the Cloth object, shared by cloth.c (set-up, layout) and
+   cloth_assembly.c (forces, Jacobians, energies). */
+#pragma once
+#include "cloth.h"
+
+struct _n_Cloth {
+  MPI_Comm           comm;
+  Scene              scene;
+  ClothModel         model;
+  ClothPartitionType partition_type;
+  PetscBool          view_partition;
+  PetscBool          setup;
+  PetscBool          exact_stiffness; /* assemble the exact Hessian instead of its PSD part (tests) */
+
+  PetscInt           nglobal, nlocal, nghost, rstart;
+  PetscInt          *part;             /* natural -> rank */
+  PetscInt          *solver_of_natural; /* natural -> solver index */
+  PetscInt          *natural_of_local;  /* local (owned, then ghosts) -> natural */
+  PetscInt          *ghosts;            /* solver indices of the ghosts, ascending */
+  PetscInt           edge_cut;
+
+  PetscReal         *mass, *damping; /* owned */
+  PetscBool         *fixed;          /* owned and ghosts */
+  PetscInt           nlinks, nangles;
+  ClothLink         *links;  /* local particle indices */
+  ClothAngle        *angles; /* local particle indices */
+  PetscInt          *xadj, *adjncy; /* natural-order adjacency, kept for preallocation */
+
+  Vec                position, velocity, work_force, work_kv;
+  Vec                natural;      /* template for natural-order Vecs */
+  VecScatter         to_natural;
+};

@@ -1,0 +1,156 @@
+/* Element kernels of the fabric model (see forces.h). */
+#include "forces.h"
+#include <petscblaslapack.h>
+
+static inline PetscReal Dot3(const PetscReal a[3], const PetscReal b[3])
+{
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/* Link potential phi(l) and its first two derivatives. */
+static void LinkPotential(const ClothLink *link, PetscReal l, PetscReal *phi, PetscReal *dphi, PetscReal *d2phi)
+{
+  const PetscReal stretch = l - link->rest;
+
+  *phi   = 0.5 * link->k * stretch * stretch;
+  *dphi  = link->k * stretch;
+  *d2phi = link->k;
+  if (link->repel_length > 0 && l < link->repel_length) {
+    const PetscReal gap = link->repel_length - l;
+    *phi += 0.5 * link->repel_k * gap * gap;
+    *dphi -= link->repel_k * gap;
+    *d2phi += link->repel_k;
+  }
+}
+
+PetscErrorCode ClothLinkEvaluate(const ClothLink *link, const PetscReal x0[3], const PetscReal x1[3], PetscBool psd, PetscReal *energy, PetscReal force1[3], PetscReal K[9])
+{
+  PetscReal d[3], l, phi, dphi, d2phi, axial, transverse;
+
+  PetscFunctionBeginUser;
+  for (PetscInt c = 0; c < 3; c++) d[c] = x1[c] - x0[c];
+  l = PetscSqrtReal(Dot3(d, d));
+  PetscCheck(l > 0, PETSC_COMM_SELF, PETSC_ERR_FP, "Link between particles %" PetscInt_FMT " and %" PetscInt_FMT " has zero length", link->p[0], link->p[1]);
+  for (PetscInt c = 0; c < 3; c++) d[c] /= l;
+  LinkPotential(link, l, &phi, &dphi, &d2phi);
+  if (energy) *energy = phi;
+  if (force1)
+    for (PetscInt c = 0; c < 3; c++) force1[c] = -dphi * d[c];
+  if (K) {
+    /* Hessian of phi(|x1 - x0|) w.r.t. x1: phi'' d d^T + (phi'/l)(I - d d^T). */
+    axial      = d2phi;
+    transverse = dphi / l;
+    if (psd) {
+      axial      = PetscMax(axial, 0.0);
+      transverse = PetscMax(transverse, 0.0);
+    }
+    for (PetscInt r = 0; r < 3; r++)
+      for (PetscInt c = 0; c < 3; c++) K[3 * r + c] = (axial - transverse) * d[r] * d[c] + (r == c ? transverse : 0.0);
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Incidence of the two arms: arm a = sum_k A[k] x_k, arm b = sum_k B[k] x_k. */
+static void AngleArms(ClothAngleKind kind, PetscReal A[3], PetscReal B[3])
+{
+  if (kind == CLOTH_ANGLE_CORNER) {
+    A[0] = -1; A[1] = 1; A[2] = 0;
+    B[0] = -1; B[1] = 0; B[2] = 1;
+  } else {
+    A[0] = -1; A[1] = 1; A[2] = 0;
+    B[0] = 0;  B[1] = -1; B[2] = 1;
+  }
+}
+
+/* c = a.b / (|a||b|), its gradient g = (dc/da, dc/db) and Hessian Hc (6x6, row-major). */
+static void NormalizedDot(const PetscReal a[3], const PetscReal b[3], PetscReal *c, PetscReal g[6], PetscReal Hc[36])
+{
+  const PetscReal na2 = Dot3(a, a), nb2 = Dot3(b, b), na = PetscSqrtReal(na2), nb = PetscSqrtReal(nb2);
+  const PetscReal d = Dot3(a, b), inv = 1.0 / (na * nb);
+
+  *c = d * inv;
+  for (PetscInt i = 0; i < 3; i++) {
+    g[i]     = (b[i] - d * a[i] / na2) * inv;
+    g[3 + i] = (a[i] - d * b[i] / nb2) * inv;
+  }
+  for (PetscInt i = 0; i < 3; i++) {
+    for (PetscInt j = 0; j < 3; j++) {
+      const PetscReal delta = (i == j) ? 1.0 : 0.0;
+      /* d2c/da_i da_j */
+      Hc[6 * i + j] = (-(b[i] * a[j] + a[i] * b[j]) - d * delta + 3.0 * d * a[i] * a[j] / na2) * inv / na2;
+      /* d2c/db_i db_j */
+      Hc[6 * (3 + i) + 3 + j] = (-(a[i] * b[j] + b[i] * a[j]) - d * delta + 3.0 * d * b[i] * b[j] / nb2) * inv / nb2;
+      /* d2c/da_i db_j */
+      Hc[6 * i + 3 + j] = (delta - a[i] * a[j] / na2 - b[i] * b[j] / nb2 + d * a[i] * b[j] / (na2 * nb2)) * inv;
+      Hc[6 * (3 + j) + i] = Hc[6 * i + 3 + j];
+    }
+  }
+}
+
+PetscErrorCode ClothAngleEvaluate(const ClothAngle *angle, const PetscReal x0[3], const PetscReal x1[3], const PetscReal x2[3], PetscBool psd, PetscReal *energy, PetscReal force[9], PetscReal H[81])
+{
+  const PetscReal *x[3] = {x0, x1, x2};
+  PetscReal        A[3], B[3], a[3] = {0, 0, 0}, b[3] = {0, 0, 0}, c, s, g[6], Hc[36];
+  PetscReal        dEdc, d2Edc2;
+  /* Below this sine the cone of (theta - theta0) at theta = 0 is cut off (only matters when sin0 > 0). */
+  const PetscReal  sin_floor = 1e-6;
+
+  PetscFunctionBeginUser;
+  AngleArms(angle->kind, A, B);
+  for (PetscInt k = 0; k < 3; k++)
+    for (PetscInt i = 0; i < 3; i++) {
+      a[i] += A[k] * x[k][i];
+      b[i] += B[k] * x[k][i];
+    }
+  NormalizedDot(a, b, &c, g, Hc);
+  s = PetscSqrtReal(PetscMax(1.0 - c * c, 0.0));
+  /* E = k (1 - c c0 - s s0) with s = sqrt(1 - c^2) */
+  if (energy) *energy = angle->k * (1.0 - c * angle->cos0 - s * angle->sin0);
+  if (angle->sin0 != 0.0) {
+    const PetscReal sc = PetscMax(s, sin_floor);
+    dEdc   = -angle->k * (angle->cos0 - angle->sin0 * c / sc);
+    d2Edc2 = angle->k * angle->sin0 / (sc * sc * sc);
+  } else {
+    dEdc   = -angle->k * angle->cos0;
+    d2Edc2 = 0.0;
+  }
+  if (force) {
+    for (PetscInt k = 0; k < 3; k++)
+      for (PetscInt i = 0; i < 3; i++) force[3 * k + i] = -dEdc * (A[k] * g[i] + B[k] * g[3 + i]);
+  }
+  if (H) {
+    PetscReal He[36]; /* Hessian w.r.t. (a, b) */
+    for (PetscInt r = 0; r < 6; r++)
+      for (PetscInt q = 0; q < 6; q++) He[6 * r + q] = d2Edc2 * g[r] * g[q] + dEdc * Hc[6 * r + q];
+    for (PetscInt k = 0; k < 3; k++)
+      for (PetscInt l = 0; l < 3; l++)
+        for (PetscInt i = 0; i < 3; i++)
+          for (PetscInt j = 0; j < 3; j++)
+            H[9 * (3 * k + i) + 3 * l + j] = A[k] * A[l] * He[6 * i + j] + A[k] * B[l] * He[6 * i + 3 + j] + B[k] * A[l] * He[6 * (3 + i) + j] + B[k] * B[l] * He[6 * (3 + i) + 3 + j];
+    if (psd) PetscCall(ClothProjectPSD(9, H));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothProjectPSD(PetscInt n, PetscReal A[])
+{
+  PetscBLASInt bn, lwork = 12 * 12 * 3, info;
+  PetscReal    V[144], w[12], work[12 * 12 * 3];
+
+  PetscFunctionBeginUser;
+  PetscCheck(n <= 12, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "ClothProjectPSD handles n <= 12, got %" PetscInt_FMT, n);
+  PetscCall(PetscBLASIntCast(n, &bn));
+  for (PetscInt i = 0; i < n * n; i++) V[i] = A[i];
+  /* Row-major symmetric == column-major symmetric, so LAPACK sees the same matrix. */
+  PetscCallBLAS("LAPACKsyev", LAPACKsyev_("V", "U", &bn, V, &bn, w, work, &lwork, &info));
+  PetscCheck(info == 0, PETSC_COMM_SELF, PETSC_ERR_LIB, "LAPACK syev failed with info %d", (int)info);
+  if (w[0] >= 0) PetscFunctionReturn(PETSC_SUCCESS); /* eigenvalues ascending: already PSD */
+  for (PetscInt i = 0; i < n * n; i++) A[i] = 0;
+  for (PetscInt e = 0; e < n; e++) {
+    const PetscReal *v = &V[e * n]; /* column e of the column-major eigenvector matrix */
+    if (w[e] <= 0) continue;
+    for (PetscInt i = 0; i < n; i++)
+      for (PetscInt j = 0; j < n; j++) A[i * n + j] += w[e] * v[i] * v[j];
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}

@@ -1,0 +1,268 @@
+/* ClothIntegrator (see integrator.h). */
+#include "integrator.h"
+#include "log.h"
+
+typedef PetscErrorCode (*ClothStepFunction)(ClothIntegrator, PetscReal, PetscBool *, PetscInt *);
+
+struct _n_ClothIntegrator {
+  Cloth             cloth;
+  char              type[CLOTH_NAME_LEN];
+  ClothStepFunction step;
+  PetscFunctionList steps;
+  PetscInt          max_halvings;
+  PetscBool         setup;
+  Vec               force, saved_position, saved_velocity, start_position, start_velocity;
+  /* implicit only */
+  Mat               A;
+  KSP               ksp;
+  Vec               rhs, dv;
+};
+
+/* Is every entry of v finite? Collective. */
+static PetscErrorCode VecIsFinite(Vec v, PetscBool *finite)
+{
+  PetscReal norm;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecNorm(v, NORM_INFINITY, &norm));
+  *finite = (PetscIsInfOrNanReal(norm) ? PETSC_FALSE : PETSC_TRUE);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* a = S F / m for every owned particle: the constrained acceleration, in place of F. */
+static PetscErrorCode ForceToAcceleration(Cloth cloth, Vec force)
+{
+  const PetscReal *mass;
+  PetscScalar     *f;
+  PetscInt         nlocal;
+
+  PetscFunctionBeginUser;
+  PetscCall(ClothApplyConstraints(cloth, force));
+  PetscCall(ClothGetMasses(cloth, &mass, NULL));
+  PetscCall(ClothGetSizes(cloth, &nlocal, NULL));
+  PetscCall(VecGetArray(force, &f));
+  for (PetscInt i = 0; i < nlocal; i++)
+    for (PetscInt c = 0; c < 3; c++) f[3 * i + c] /= mass[i];
+  PetscCall(VecRestoreArray(force, &f));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Forward Euler: x += h v_n; v += h a(x_n, v_n). */
+static PetscErrorCode StepExplicit(ClothIntegrator integ, PetscReal h, PetscBool *ok, PetscInt *its)
+{
+  Vec x, v;
+
+  PetscFunctionBeginUser;
+  PetscCall(ClothGetState(integ->cloth, &x, &v));
+  PetscCall(ClothComputeForces(integ->cloth, x, v, integ->force));
+  PetscCall(ForceToAcceleration(integ->cloth, integ->force));
+  PetscCall(VecAXPY(x, h, v));
+  PetscCall(VecAXPY(v, h, integ->force));
+  PetscCall(VecIsFinite(x, ok));
+  *its = 0;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Symplectic Euler: v += h a(x_n, v_n); x += h v_{n+1}. */
+static PetscErrorCode StepSymplectic(ClothIntegrator integ, PetscReal h, PetscBool *ok, PetscInt *its)
+{
+  Vec x, v;
+
+  PetscFunctionBeginUser;
+  PetscCall(ClothGetState(integ->cloth, &x, &v));
+  PetscCall(ClothComputeForces(integ->cloth, x, v, integ->force));
+  PetscCall(ForceToAcceleration(integ->cloth, integ->force));
+  PetscCall(VecAXPY(v, h, integ->force));
+  PetscCall(VecAXPY(x, h, v));
+  PetscCall(VecIsFinite(x, ok));
+  *its = 0;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Linearised backward Euler: (M + h C + h^2 K) dv = h (F - h K v), filtered; v += dv; x += h v. */
+static PetscErrorCode StepImplicit(ClothIntegrator integ, PetscReal h, PetscBool *ok, PetscInt *its)
+{
+  Vec                x, v;
+  KSPConvergedReason reason;
+
+  PetscFunctionBeginUser;
+  PetscCall(ClothGetState(integ->cloth, &x, &v));
+  PetscCall(ClothAssembleImplicitSystem(integ->cloth, h, x, v, integ->A, integ->rhs));
+  PetscCall(PetscLogEventBegin(ClothLog.solve, 0, 0, 0, 0));
+  PetscCall(KSPSetOperators(integ->ksp, integ->A, integ->A));
+  PetscCall(KSPSolve(integ->ksp, integ->rhs, integ->dv));
+  PetscCall(PetscLogEventEnd(ClothLog.solve, 0, 0, 0, 0));
+  PetscCall(KSPGetConvergedReason(integ->ksp, &reason));
+  PetscCall(KSPGetIterationNumber(integ->ksp, its));
+  *ok = reason > 0 ? PETSC_TRUE : PETSC_FALSE;
+  if (*ok) PetscCall(VecIsFinite(integ->dv, ok));
+  if (!*ok) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(VecAXPY(v, 1.0, integ->dv));
+  PetscCall(VecAXPY(x, h, v));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothIntegratorCreate(Cloth cloth, ClothIntegrator *integ)
+{
+  ClothIntegrator it;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscNew(&it));
+  it->cloth        = cloth;
+  it->max_halvings = 6;
+  PetscCall(PetscFunctionListAdd(&it->steps, "explicit", StepExplicit));
+  PetscCall(PetscFunctionListAdd(&it->steps, "symplectic", StepSymplectic));
+  PetscCall(PetscFunctionListAdd(&it->steps, "implicit", StepImplicit));
+  PetscCall(ClothIntegratorSetType(it, "implicit"));
+  *integ = it;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothIntegratorSetType(ClothIntegrator integ, const char type[])
+{
+  ClothStepFunction step;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscFunctionListFind(integ->steps, type, &step));
+  PetscCheck(step, PETSC_COMM_WORLD, PETSC_ERR_USER_INPUT, "Unknown integrator '%s': expected explicit, symplectic or implicit", type);
+  PetscCheck(!integ->setup, PETSC_COMM_WORLD, PETSC_ERR_ORDER, "Set the integrator type before ClothIntegratorSetUp");
+  integ->step = step;
+  PetscCall(PetscStrncpy(integ->type, type, sizeof(integ->type)));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothIntegratorGetType(ClothIntegrator integ, const char **type)
+{
+  PetscFunctionBeginUser;
+  *type = integ->type;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothIntegratorSetFromOptions(ClothIntegrator integ)
+{
+  char      type[CLOTH_NAME_LEN];
+  PetscBool set;
+
+  PetscFunctionBeginUser;
+  PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Time integration", "ClothIntegrator");
+  PetscCall(PetscOptionsFList("-integrator", "Time integrator", "ClothIntegratorSetType", integ->steps, integ->type, type, sizeof(type), &set));
+  if (set) PetscCall(ClothIntegratorSetType(integ, type));
+  PetscCall(PetscOptionsInt("-integrator_max_halvings", "How many times a failing step may be halved before the run stops", "ClothIntegratorStep", integ->max_halvings, &integ->max_halvings, NULL));
+  PetscOptionsEnd();
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The implicit solver: CG (the system is symmetric positive definite) with a block Jacobi
+   preconditioner on the 3x3 particle blocks; every -ksp_ and -pc_ option overrides. */
+static PetscErrorCode ClothIntegratorSetUpImplicit(ClothIntegrator integ)
+{
+  PC pc;
+
+  PetscFunctionBeginUser;
+  PetscCall(ClothCreateMatrix(integ->cloth, &integ->A));
+  PetscCall(MatCreateVecs(integ->A, &integ->dv, NULL));
+  PetscCall(ClothCreateStateVec(integ->cloth, &integ->rhs));
+  PetscCall(KSPCreate(PETSC_COMM_WORLD, &integ->ksp));
+  PetscCall(KSPSetType(integ->ksp, KSPCG));
+  PetscCall(KSPGetPC(integ->ksp, &pc));
+  PetscCall(PCSetType(pc, PCPBJACOBI));
+  PetscCall(KSPSetTolerances(integ->ksp, 1e-8, 1e-14, PETSC_DEFAULT, 1000));
+  PetscCall(KSPSetInitialGuessNonzero(integ->ksp, PETSC_TRUE)); /* dv of the last step: a good guess */
+  PetscCall(KSPSetFromOptions(integ->ksp));
+  PetscCall(VecZeroEntries(integ->dv));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothIntegratorSetUp(ClothIntegrator integ)
+{
+  PetscFunctionBeginUser;
+  if (integ->setup) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(ClothCreateStateVec(integ->cloth, &integ->force));
+  PetscCall(ClothCreateStateVec(integ->cloth, &integ->saved_position));
+  PetscCall(ClothCreateStateVec(integ->cloth, &integ->saved_velocity));
+  PetscCall(ClothCreateStateVec(integ->cloth, &integ->start_position));
+  PetscCall(ClothCreateStateVec(integ->cloth, &integ->start_velocity));
+  if (integ->step == StepImplicit) PetscCall(ClothIntegratorSetUpImplicit(integ));
+  integ->setup = PETSC_TRUE;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Takes one step of h; on failure restores the state and takes two steps of h/2 instead. */
+static PetscErrorCode StepOrHalve(ClothIntegrator integ, PetscReal h, PetscInt depth, PetscBool *ok, ClothStepStats *stats)
+{
+  Vec      x, v;
+  PetscInt its = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(ClothGetState(integ->cloth, &x, &v));
+  PetscCall(VecCopy(x, integ->saved_position));
+  PetscCall(VecCopy(v, integ->saved_velocity));
+  PetscCall(integ->step(integ, h, ok, &its));
+  stats->krylov_iterations += its;
+  if (*ok) {
+    stats->substeps++;
+    stats->smallest_dt = PetscMin(stats->smallest_dt, h);
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
+  PetscCall(VecCopy(integ->saved_position, x));
+  PetscCall(VecCopy(integ->saved_velocity, v));
+  if (integ->dv) PetscCall(VecZeroEntries(integ->dv));
+  if (depth >= integ->max_halvings) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(PetscInfo(NULL, "Step of %g s failed; retrying as two steps of %g s\n", (double)h, (double)(h / 2)));
+  for (PetscInt half = 0; half < 2; half++) {
+    PetscCall(StepOrHalve(integ, h / 2, depth + 1, ok, stats));
+    if (!*ok) break;
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothIntegratorStep(ClothIntegrator integ, PetscReal dt, PetscBool *ok, ClothStepStats *stats)
+{
+  ClothStepStats s = {0, 0, dt};
+  Vec            x, v;
+
+  PetscFunctionBeginUser;
+  PetscCall(ClothIntegratorSetUp(integ));
+  PetscCall(ClothGetState(integ->cloth, &x, &v));
+  PetscCall(VecCopy(x, integ->start_position));
+  PetscCall(VecCopy(v, integ->start_velocity));
+  PetscCall(StepOrHalve(integ, dt, 0, ok, &s));
+  if (!*ok) { /* a failed half-step sequence may have advanced part of the way: go back to the start */
+    PetscCall(VecCopy(integ->start_position, x));
+    PetscCall(VecCopy(integ->start_velocity, v));
+  }
+  if (stats) *stats = s;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothIntegratorView(ClothIntegrator integ, PetscViewer viewer)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscViewerASCIIPrintf(viewer, "Integrator: %s (a failing step is halved up to %" PetscInt_FMT " times)\n", integ->type, integ->max_halvings));
+  if (integ->ksp) {
+    PetscCall(PetscViewerASCIIPushTab(viewer));
+    PetscCall(KSPView(integ->ksp, viewer));
+    PetscCall(PetscViewerASCIIPopTab(viewer));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothIntegratorDestroy(ClothIntegrator *integ)
+{
+  ClothIntegrator it = *integ;
+
+  PetscFunctionBeginUser;
+  if (!it) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(PetscFunctionListDestroy(&it->steps));
+  PetscCall(VecDestroy(&it->force));
+  PetscCall(VecDestroy(&it->saved_position));
+  PetscCall(VecDestroy(&it->saved_velocity));
+  PetscCall(VecDestroy(&it->start_position));
+  PetscCall(VecDestroy(&it->start_velocity));
+  PetscCall(MatDestroy(&it->A));
+  PetscCall(KSPDestroy(&it->ksp));
+  PetscCall(VecDestroy(&it->rhs));
+  PetscCall(VecDestroy(&it->dv));
+  PetscCall(PetscFree(*integ));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}

@@ -1,0 +1,30 @@
+/* ClothIntegrator: advances the cloth by one step (MODEL.md section 5).
+
+   Types, chosen by name (-integrator): explicit (forward Euler), symplectic (semi-implicit Euler),
+   implicit (linearised backward Euler, Baraff & Witkin 1998, solved with PETSc KSP). A step that
+   fails (Krylov divergence, a non-finite state) is retried as two half steps, recursively, up to
+   -integrator_max_halvings times; the step count and time stay those of the nominal step. */
+#pragma once
+#include <petscksp.h>
+#include "cloth.h"
+
+typedef struct _n_ClothIntegrator *ClothIntegrator;
+
+/* Statistics of the last ClothIntegratorStep. */
+typedef struct {
+  PetscInt  substeps;          /* sub-steps actually taken (1 when no reduction was needed) */
+  PetscInt  krylov_iterations; /* summed over the sub-steps */
+  PetscReal smallest_dt;
+} ClothStepStats;
+
+PetscErrorCode ClothIntegratorCreate(Cloth cloth, ClothIntegrator *integ);
+PetscErrorCode ClothIntegratorSetType(ClothIntegrator integ, const char type[]);
+PetscErrorCode ClothIntegratorGetType(ClothIntegrator integ, const char **type);
+/* -integrator, -integrator_max_halvings, and the KSP's own options for the implicit type. */
+PetscErrorCode ClothIntegratorSetFromOptions(ClothIntegrator integ);
+PetscErrorCode ClothIntegratorSetUp(ClothIntegrator integ);
+/* Advances by dt. *ok is false when even the smallest allowed sub-step failed; the state is then
+   left as it was before the call (the last good state). Collective. */
+PetscErrorCode ClothIntegratorStep(ClothIntegrator integ, PetscReal dt, PetscBool *ok, ClothStepStats *stats);
+PetscErrorCode ClothIntegratorView(ClothIntegrator integ, PetscViewer viewer);
+PetscErrorCode ClothIntegratorDestroy(ClothIntegrator *integ);

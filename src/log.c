@@ -1,0 +1,25 @@
+/* The events and stages of clothsim (see log.h). */
+#include "log.h"
+#include "util.h"
+
+ClothLogEvents ClothLog;
+
+static PetscBool registered = PETSC_FALSE;
+
+PetscErrorCode ClothLogRegister(void)
+{
+  PetscFunctionBeginUser;
+  if (registered) PetscFunctionReturn(PETSC_SUCCESS);
+  registered = PETSC_TRUE;
+  PetscCall(PetscClassIdRegister("Cloth", &ClothLog.classid));
+  PetscCall(PetscLogEventRegister("ClothSetUp", ClothLog.classid, &ClothLog.setup));
+  PetscCall(PetscLogEventRegister("ClothPartition", ClothLog.classid, &ClothLog.partition));
+  PetscCall(PetscLogEventRegister("ClothForces", ClothLog.classid, &ClothLog.forces));
+  PetscCall(PetscLogEventRegister("ClothJacobian", ClothLog.classid, &ClothLog.jacobian));
+  PetscCall(PetscLogEventRegister("ClothSolve", ClothLog.classid, &ClothLog.solve));
+  PetscCall(PetscLogEventRegister("ClothOutput", ClothLog.classid, &ClothLog.output));
+  PetscCall(PetscLogEventRegister("ClothCheckpoint", ClothLog.classid, &ClothLog.checkpoint));
+  PetscCall(PetscLogStageRegister("Setup", &ClothLog.stage_setup));
+  PetscCall(PetscLogStageRegister("Time steps", &ClothLog.stage_steps));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}

@@ -1,0 +1,270 @@
+/* ClothModel (see model.h): particles, masses and interactions of every piece. */
+#include "model.h"
+#include "fabric.h"
+#include "pattern.h"
+
+/* Everything needed while one piece's interactions are generated. */
+typedef struct {
+  const ScenePiece  *piece;
+  const SceneFabric *fabric;
+  const PetscReal   *uv;     /* flat pattern coordinates */
+  PetscInt           offset; /* global index of particle (0, 0) */
+} PieceContext;
+
+static inline PetscInt PieceNode(const PieceContext *pc, PetscInt i, PetscInt j)
+{
+  return j * pc->piece->nu + i;
+}
+
+static PetscReal FlatDistance(const PieceContext *pc, PetscInt a, PetscInt b)
+{
+  const PetscReal du = pc->uv[2 * a] - pc->uv[2 * b], dv = pc->uv[2 * a + 1] - pc->uv[2 * b + 1];
+  return PetscSqrtReal(du * du + dv * dv);
+}
+
+/* Mean rest length of the links at node (i, j) across the direction of thread `warp`: the width
+   that thread carries there. */
+static PetscReal ThreadWidth(const PieceContext *pc, PetscInt i, PetscInt j, PetscBool warp)
+{
+  const PetscInt n = warp ? pc->piece->nv : pc->piece->nu, at = warp ? j : i;
+  PetscReal      sum = 0;
+  PetscInt       count = 0;
+
+  for (PetscInt s = -1; s <= 1; s += 2) {
+    const PetscInt other = at + s;
+    if (other < 0 || other >= n) continue;
+    sum += FlatDistance(pc, PieceNode(pc, i, j), warp ? PieceNode(pc, i, other) : PieceNode(pc, other, j));
+    count++;
+  }
+  return sum / count;
+}
+
+static void AddLink(ClothModel model, PetscInt a, PetscInt b, PetscReal k, PetscReal rest, PetscReal repel_length, PetscReal repel_k)
+{
+  ClothLink *link = &model->links[model->nlinks++];
+
+  link->p[0]         = a;
+  link->p[1]         = b;
+  link->k            = k;
+  link->rest         = rest;
+  link->repel_length = repel_length;
+  link->repel_k      = repel_k;
+}
+
+static void AddAngle(ClothModel model, const PieceContext *pc, ClothAngleKind kind, const PetscInt local[3], PetscReal k)
+{
+  ClothAngle      *angle = &model->angles[model->nangles++];
+  const PetscReal *u[3]  = {&pc->uv[2 * local[0]], &pc->uv[2 * local[1]], &pc->uv[2 * local[2]]};
+  PetscReal        a[2], b[2], na, nb;
+
+  for (PetscInt c = 0; c < 2; c++) {
+    a[c] = u[1][c] - u[0][c];
+    b[c] = (kind == CLOTH_ANGLE_CORNER) ? u[2][c] - u[0][c] : u[2][c] - u[1][c];
+  }
+  na = PetscSqrtReal(a[0] * a[0] + a[1] * a[1]);
+  nb = PetscSqrtReal(b[0] * b[0] + b[1] * b[1]);
+  for (PetscInt c = 0; c < 3; c++) angle->p[c] = pc->offset + local[c];
+  angle->kind = kind;
+  angle->k    = k;
+  angle->cos0 = (a[0] * b[0] + a[1] * b[1]) / (na * nb);
+  angle->sin0 = PetscAbsReal(a[0] * b[1] - a[1] * b[0]) / (na * nb);
+}
+
+/* Stretch links to the 4 neighbours, and the skip-one bending links, along one thread direction. */
+static void AddThreadInteractions(ClothModel model, const PieceContext *pc, PetscBool warp)
+{
+  const ScenePiece  *piece = pc->piece;
+  const SceneFabric *fab   = pc->fabric;
+  const PetscInt     di = warp ? 1 : 0, dj = warp ? 0 : 1;
+
+  for (PetscInt j = 0; j < piece->nv; j++)
+    for (PetscInt i = 0; i < piece->nu; i++) {
+      const PetscInt a = PieceNode(pc, i, j);
+      if (i + di < piece->nu && j + dj < piece->nv) {
+        const PetscInt  b     = PieceNode(pc, i + di, j + dj);
+        const PetscReal rest  = FlatDistance(pc, a, b);
+        const PetscReal width = 0.5 * (ThreadWidth(pc, i, j, warp) + ThreadWidth(pc, i + di, j + dj, warp));
+        const PetscReal k     = FabricStretchLinkStiffness(fab, warp, rest, width);
+        AddLink(model, pc->offset + a, pc->offset + b, k, rest, fab->repulsion * rest, fab->repulsion_stiffness * k);
+      }
+      if (i + 2 * di < piece->nu && j + 2 * dj < piece->nv) {
+        const PetscInt  m = PieceNode(pc, i + di, j + dj), b = PieceNode(pc, i + 2 * di, j + 2 * dj);
+        const PetscReal width = ThreadWidth(pc, i + di, j + dj, warp);
+        if (fab->bend_model == CLOTH_BEND_LINK) {
+          const PetscReal rest = FlatDistance(pc, a, b);
+          AddLink(model, pc->offset + a, pc->offset + b, FabricBendLinkStiffness(fab, warp, rest, width), rest, 0, 0);
+        } else {
+          const PetscInt  local[3] = {a, m, b};
+          const PetscReal segment  = 0.5 * (FlatDistance(pc, a, m) + FlatDistance(pc, m, b));
+          AddAngle(model, pc, CLOTH_ANGLE_CHAIN, local, FabricBendAngleStiffness(fab, warp, segment, width));
+        }
+      }
+    }
+}
+
+/* Shear interactions of every grid cell, and the cell as an output quad. */
+static PetscErrorCode AddCellInteractions(ClothModel model, const PieceContext *pc)
+{
+  const ScenePiece *piece = pc->piece;
+
+  PetscFunctionBeginUser;
+  for (PetscInt j = 0; j + 1 < piece->nv; j++)
+    for (PetscInt i = 0; i + 1 < piece->nu; i++) {
+      const PetscInt  c[4] = {PieceNode(pc, i, j), PieceNode(pc, i + 1, j), PieceNode(pc, i + 1, j + 1), PieceNode(pc, i, j + 1)};
+      const PetscReal area = PatternCellArea(piece->nu, pc->uv, i, j);
+
+      for (PetscInt k = 0; k < 4; k++) model->quads[4 * model->nquads + k] = pc->offset + c[k];
+      model->nquads++;
+      if (pc->fabric->shear <= 0) continue;
+      if (pc->fabric->shear_model == CLOTH_SHEAR_LINK) {
+        for (PetscInt d = 0; d < 2; d++) {
+          const PetscReal rest = FlatDistance(pc, c[d], c[d + 2]);
+          AddLink(model, pc->offset + c[d], pc->offset + c[d + 2], FabricShearLinkStiffness(pc->fabric, rest, area), rest, 0, 0);
+        }
+      } else {
+        for (PetscInt k = 0; k < 4; k++) {
+          const PetscInt local[3] = {c[k], c[(k + 1) % 4], c[(k + 3) % 4]};
+          AddAngle(model, pc, CLOTH_ANGLE_CORNER, local, FabricShearAngleStiffness(pc->fabric, area));
+        }
+      }
+    }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Particle positions (flat pattern placed in 3D), masses and pins of one piece. */
+static PetscErrorCode AddPieceParticles(ClothModel model, const PieceContext *pc)
+{
+  const ScenePiece *piece = pc->piece;
+  const PetscInt    n     = piece->nu * piece->nv;
+  PetscReal         total_area = 0;
+
+  PetscFunctionBeginUser;
+  for (PetscInt p = 0; p < n; p++) {
+    PetscReal *x = &model->position[3 * (pc->offset + p)];
+    for (PetscInt c = 0; c < 3; c++) x[c] = piece->origin[c] + pc->uv[2 * p] * piece->u_axis[c] + pc->uv[2 * p + 1] * piece->v_axis[c];
+    model->mass[pc->offset + p] = 0;
+  }
+  for (PetscInt j = 0; j + 1 < piece->nv; j++)
+    for (PetscInt i = 0; i + 1 < piece->nu; i++) {
+      const PetscReal area = PatternCellArea(piece->nu, pc->uv, i, j);
+      const PetscInt  c[4] = {PieceNode(pc, i, j), PieceNode(pc, i + 1, j), PieceNode(pc, i + 1, j + 1), PieceNode(pc, i, j + 1)};
+      for (PetscInt k = 0; k < 4; k++) model->mass[pc->offset + c[k]] += 0.25 * area * pc->fabric->density;
+      total_area += area;
+    }
+  for (PetscInt p = 0; p < n; p++) {
+    if (piece->mass_distribution == CLOTH_MASS_UNIFORM) model->mass[pc->offset + p] = pc->fabric->density * total_area / n;
+    model->damping[pc->offset + p] = pc->fabric->damping * model->mass[pc->offset + p];
+  }
+  for (PetscInt k = 0; k < piece->npins; k++) model->pinned[pc->offset + PieceNode(pc, piece->pins[2 * k], piece->pins[2 * k + 1])] = PETSC_TRUE;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode ClothModelAllocate(Scene scene, ClothModel model)
+{
+  PetscInt maxlinks = 0, maxangles = 0, ncells = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMalloc1(scene->npieces + 1, &model->piece_offset));
+  model->npieces         = scene->npieces;
+  model->piece_offset[0] = 0;
+  for (PetscInt k = 0; k < scene->npieces; k++) {
+    const PetscInt n = scene->pieces[k].nu * scene->pieces[k].nv;
+    model->piece_offset[k + 1] = model->piece_offset[k] + n;
+    ncells += (scene->pieces[k].nu - 1) * (scene->pieces[k].nv - 1);
+    maxlinks += 4 * n + 2 * n; /* stretch + bending (both directions) + 2 shear per cell */
+    maxangles += 4 * n + 2 * n;
+  }
+  model->nparticles = model->piece_offset[scene->npieces];
+  PetscCall(PetscCalloc5(3 * model->nparticles, &model->position, model->nparticles, &model->mass, model->nparticles, &model->damping, model->nparticles, &model->pinned, 4 * ncells, &model->quads));
+  PetscCall(PetscMalloc2(maxlinks, &model->links, maxangles, &model->angles));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothModelCreate(Scene scene, ClothModel *model)
+{
+  ClothModel m;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscNew(&m));
+  PetscCall(ClothModelAllocate(scene, m));
+  for (PetscInt k = 0; k < scene->npieces; k++) {
+    const ScenePiece *piece = &scene->pieces[k];
+    PetscReal        *uv;
+    PieceContext      pc;
+
+    PetscCall(PetscMalloc1(2 * piece->nu * piece->nv, &uv));
+    PetscCall(PatternMeshPiece(piece, uv));
+    pc.piece  = piece;
+    pc.fabric = &scene->fabrics[piece->fabric];
+    pc.uv     = uv;
+    pc.offset = m->piece_offset[k];
+    PetscCall(AddPieceParticles(m, &pc));
+    AddThreadInteractions(m, &pc, PETSC_TRUE);
+    AddThreadInteractions(m, &pc, PETSC_FALSE);
+    PetscCall(AddCellInteractions(m, &pc));
+    PetscCall(PetscFree(uv));
+  }
+  *model = m;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Appends the pairs of one interaction's particles to per-particle neighbour lists (counting pass when adj == NULL). */
+static void VisitPairs(const PetscInt *p, PetscInt np, PetscInt *count, PetscInt *const *adj)
+{
+  for (PetscInt a = 0; a < np; a++)
+    for (PetscInt b = 0; b < np; b++) {
+      if (a == b || p[a] == p[b]) continue;
+      if (adj) adj[p[a]][count[p[a]]] = p[b];
+      count[p[a]]++;
+    }
+}
+
+PetscErrorCode ClothModelGetAdjacency(ClothModel model, PetscInt **xadj_out, PetscInt **adjncy_out)
+{
+  const PetscInt n = model->nparticles;
+  PetscInt      *count, *xadj, *adjncy, **rows;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscCalloc1(n, &count));
+  for (PetscInt l = 0; l < model->nlinks; l++) VisitPairs(model->links[l].p, 2, count, NULL);
+  for (PetscInt a = 0; a < model->nangles; a++) VisitPairs(model->angles[a].p, 3, count, NULL);
+  PetscCall(PetscMalloc1(n + 1, &xadj));
+  xadj[0] = 0;
+  for (PetscInt i = 0; i < n; i++) xadj[i + 1] = xadj[i] + count[i];
+  PetscCall(PetscMalloc1(xadj[n], &adjncy));
+  PetscCall(PetscMalloc1(n, &rows));
+  for (PetscInt i = 0; i < n; i++) {
+    rows[i]  = &adjncy[xadj[i]];
+    count[i] = 0;
+  }
+  for (PetscInt l = 0; l < model->nlinks; l++) VisitPairs(model->links[l].p, 2, count, rows);
+  for (PetscInt a = 0; a < model->nangles; a++) VisitPairs(model->angles[a].p, 3, count, rows);
+  /* Sort and remove duplicates row by row, then compact. */
+  {
+    PetscInt w = 0;
+    for (PetscInt i = 0; i < n; i++) {
+      PetscInt len = count[i];
+      PetscCall(PetscSortRemoveDupsInt(&len, rows[i]));
+      for (PetscInt k = 0; k < len; k++) adjncy[w + k] = rows[i][k];
+      xadj[i] = w;
+      w += len;
+    }
+    xadj[n] = w;
+  }
+  PetscCall(PetscFree(rows));
+  PetscCall(PetscFree(count));
+  *xadj_out   = xadj;
+  *adjncy_out = adjncy;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothModelDestroy(ClothModel *model)
+{
+  PetscFunctionBeginUser;
+  if (!*model) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(PetscFree5((*model)->position, (*model)->mass, (*model)->damping, (*model)->pinned, (*model)->quads));
+  PetscCall(PetscFree2((*model)->links, (*model)->angles));
+  PetscCall(PetscFree((*model)->piece_offset));
+  PetscCall(PetscFree(*model));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}

@@ -1,0 +1,28 @@
+/* ClothModel: the whole discrete fabric of a scene in natural (global particle) order: pieces in
+   scene order, each row by row. Built identically on every rank from the scene; the distributed
+   Cloth keeps only its own part of it. */
+#pragma once
+#include "scene.h"
+#include "forces.h"
+
+typedef struct _n_ClothModel *ClothModel;
+struct _n_ClothModel {
+  PetscInt    nparticles;
+  PetscReal  *position;     /* 3 N: initial positions, m */
+  PetscReal  *mass;         /* N: kg */
+  PetscReal  *damping;      /* N: damping coefficient c_i (force -c_i v_i), kg/s */
+  PetscBool  *pinned;       /* N */
+  PetscInt    nlinks;
+  ClothLink  *links;        /* particle indices in natural order */
+  PetscInt    nangles;
+  ClothAngle *angles;
+  PetscInt    nquads;
+  PetscInt   *quads;        /* 4 per grid cell, counter-clockwise in the pattern plane */
+  PetscInt    npieces;
+  PetscInt   *piece_offset; /* npieces + 1: first particle of each piece */
+};
+
+PetscErrorCode ClothModelCreate(Scene scene, ClothModel *model);
+/* Adjacency in CSR form (no self loops): j is a neighbour of i when an interaction holds both. */
+PetscErrorCode ClothModelGetAdjacency(ClothModel model, PetscInt **xadj, PetscInt **adjncy);
+PetscErrorCode ClothModelDestroy(ClothModel *model);

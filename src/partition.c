@@ -1,0 +1,62 @@
+/* METIS partitioning (see partition.h). */
+#include <metis.h>
+#include "partition.h"
+
+const char *const ClothPartitionTypes[] = {"metis", "block", "ClothPartitionType", "CLOTH_PARTITION_", NULL};
+
+static PetscErrorCode PartitionBlock(PetscInt n, PetscInt nparts, PetscInt part[])
+{
+  PetscFunctionBeginUser;
+  for (PetscInt p = 0; p < nparts; p++) {
+    const PetscInt start = (n / nparts) * p + PetscMin(p, n % nparts), count = n / nparts + (p < n % nparts ? 1 : 0);
+    for (PetscInt i = start; i < start + count; i++) part[i] = p;
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode PartitionMETIS(PetscInt n, const PetscInt xadj[], const PetscInt adjncy[], PetscInt nparts, PetscInt part[])
+{
+  idx_t  nvtxs = (idx_t)n, ncon = 1, np = (idx_t)nparts, objval, options[METIS_NOPTIONS];
+  idx_t *mxadj, *madj, *mpart;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMalloc3(n + 1, &mxadj, xadj[n], &madj, n, &mpart));
+  for (PetscInt i = 0; i <= n; i++) mxadj[i] = (idx_t)xadj[i];
+  for (PetscInt i = 0; i < xadj[n]; i++) madj[i] = (idx_t)adjncy[i];
+  METIS_SetDefaultOptions(options);
+  options[METIS_OPTION_SEED]    = 1; /* the same partition on every run */
+  options[METIS_OPTION_NUMBERING] = 0;
+  ClothCallMETIS(METIS_PartGraphKway(&nvtxs, &ncon, mxadj, madj, NULL, NULL, NULL, &np, NULL, NULL, options, &objval, mpart));
+  for (PetscInt i = 0; i < n; i++) part[i] = (PetscInt)mpart[i];
+  PetscCall(PetscFree3(mxadj, madj, mpart));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothPartitionGraph(MPI_Comm comm, ClothPartitionType type, PetscInt n, const PetscInt xadj[], const PetscInt adjncy[], PetscInt nparts, PetscInt part[])
+{
+  PetscMPIInt rank;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  if (rank == 0) {
+    if (nparts == 1) {
+      for (PetscInt i = 0; i < n; i++) part[i] = 0;
+    } else if (type == CLOTH_PARTITION_METIS) {
+      PetscCall(PartitionMETIS(n, xadj, adjncy, nparts, part));
+    } else {
+      PetscCall(PartitionBlock(n, nparts, part));
+    }
+  }
+  PetscCallMPI(MPI_Bcast(part, (PetscMPIInt)n, MPIU_INT, 0, comm));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscInt ClothPartitionEdgeCut(PetscInt n, const PetscInt xadj[], const PetscInt adjncy[], const PetscInt part[])
+{
+  PetscInt cut = 0;
+
+  for (PetscInt i = 0; i < n; i++)
+    for (PetscInt k = xadj[i]; k < xadj[i + 1]; k++)
+      if (adjncy[k] > i && part[adjncy[k]] != part[i]) cut++;
+  return cut;
+}

@@ -1,0 +1,18 @@
+/* ClothRun: one simulation run: run-level options (how: step, duration, output, checkpoints,
+   restart) around a Cloth and its ClothIntegrator, and the time loop with progress output. */
+#pragma once
+#include "cloth.h"
+#include "integrator.h"
+
+typedef struct _n_ClothRun *ClothRun;
+
+PetscErrorCode ClothRunCreate(MPI_Comm comm, Scene scene, ClothRun *run);
+/* Reads every run-level option (see -help); scene values are the defaults. */
+PetscErrorCode ClothRunSetFromOptions(ClothRun run);
+/* Builds the cloth and integrator, restores a checkpoint given with -restart, opens the output. */
+PetscErrorCode ClothRunSetUp(ClothRun run);
+/* Runs the time loop to the end (or to a termination signal); always writes a final checkpoint. */
+PetscErrorCode ClothRunSolve(ClothRun run);
+PetscErrorCode ClothRunGetCloth(ClothRun run, Cloth *cloth);
+PetscErrorCode ClothRunGetStep(ClothRun run, PetscInt *step, PetscReal *time);
+PetscErrorCode ClothRunDestroy(ClothRun *run);
