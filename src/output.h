@@ -24,4 +24,13 @@ PetscErrorCode ClothOutputCreate(MPI_Comm comm, const char dir[], const char nam
 /* Appends one frame: positions and velocities (natural order) at (step, time); rewrites the .xdmf so
    that it is complete after every frame. Collective. */
 PetscErrorCode ClothOutputWriteFrame(ClothOutput out, PetscInt step, PetscReal time, Vec position, Vec velocity);
+/* Adds a mesh that does not move (the mannequin): nverts points (coords: 3 per point) and ntris
+   triangles (tris: 3 point indices each, 0-based), written once to NAME.h5:/static/<name>/{points,
+   triangles} and shown as a grid <name> beside "fabric" in every frame of the .xdmf. Every rank passes
+   the same full arrays. Calling it again with the same name replaces that mesh; after a restart call it
+   again (the .xdmf lists the meshes added since ClothOutputCreate). Collective. */
+PetscErrorCode ClothOutputAddStaticMesh(ClothOutput out, const char name[], PetscInt nverts, const PetscReal coords[], PetscInt ntris, const PetscInt tris[]);
+/* The frames in the series, in step order, including those kept from before a restart. The arrays
+   belong to out and stay valid until the next frame is written; any output may be NULL. Not collective. */
+PetscErrorCode ClothOutputGetFrames(ClothOutput out, PetscInt *nframes, const PetscInt64 *steps[], const PetscReal *times[]);
 PetscErrorCode ClothOutputDestroy(ClothOutput *out);

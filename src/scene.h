@@ -4,6 +4,7 @@
    except the driver, which may apply command-line overrides (-grid) before the cloth is built. */
 #pragma once
 #include <petscsys.h>
+#include <petscviewer.h>
 #include "util.h"
 
 typedef enum {
@@ -54,6 +55,7 @@ typedef struct {
   PetscInt              npins;
   PetscInt             *pins;          /* 2*npins grid indices (i, j), already resolved to 0 <= i < nu, 0 <= j < nv */
   PetscInt             *pins_given;    /* 2*npins indices exactly as written (negative counts from the end), for -grid */
+  PetscInt              grid_given[2]; /* nu, nv as written in the file (before any SceneSetGridSize) */
 } ScenePiece;
 
 typedef struct {
@@ -77,13 +79,21 @@ struct _n_Scene {
   SceneRunDefaults run;
   PetscBool        single_grid;          /* exactly one rectangular piece: -grid N may resize it */
   PetscInt64       fingerprint;          /* FNV-1a hash of the file bytes (mixed with -grid), kept in checkpoints */
+  PetscInt64       file_fingerprint;     /* FNV-1a hash of the file bytes alone */
+  MPI_Comm         comm;                 /* the communicator it was read on (errors from SceneSetGridSize use it) */
 };
 
 /* Reads and validates a scene file. Collective on comm: rank 0 reads the bytes, every rank parses
    the same bytes, so every rank fails (or succeeds) alike. Errors name the file, line, key and
    what was expected. */
 PetscErrorCode SceneCreateFromFile(MPI_Comm comm, const char path[], Scene *scene);
-/* Resizes the single rectangular piece to n x n particles; pins given with negative indices follow the edges. */
+/* Resizes the single rectangular piece to n x n particles (n >= 2); pins given with negative indices follow
+   the edges, the size stays. The fingerprint becomes the file's hash mixed with n (the file's own hash again
+   when n x n is the grid the file gives). Errors unless scene->single_grid. Not collective (every rank holds the
+   same scene and must call it alike). */
 PetscErrorCode SceneSetGridSize(Scene scene, PetscInt n);
+/* Prints a short summary (pieces with grid and particle count, fabrics, gravity, run defaults) to an ASCII viewer
+   (NULL: stdout of the scene's communicator). */
 PetscErrorCode SceneView(Scene scene, PetscViewer viewer);
+/* Frees the scene; NULL-safe, sets *scene to NULL. */
 PetscErrorCode SceneDestroy(Scene *scene);

@@ -1,0 +1,47 @@
+/* Parallel HDF5 helpers shared by the output series (output.c) and the checkpoints (checkpoint.c).
+
+   Files are opened with the MPI-IO driver on a communicator; every helper taking a file, group or
+   dataset is collective on that communicator (all ranks call it with the same arguments), as parallel
+   HDF5 requires for everything that touches metadata. Vectors are written as (rows, ncomp) float64
+   datasets, each rank writing its ownership range as one hyperslab with a collective transfer, so the
+   file holds the natural order whatever the number of ranks. */
+#pragma once
+#include <hdf5.h>
+#include <petscvec.h>
+#include "util.h"
+
+/* Creates (truncating) an HDF5 file for parallel access. */
+PetscErrorCode ClothH5FileCreate(MPI_Comm comm, const char path[], hid_t *file);
+/* Opens an existing file (flags: H5F_ACC_RDONLY or H5F_ACC_RDWR) without printing HDF5's error stack.
+   *opened is PETSC_FALSE on every rank, and *file negative, when the file is not a readable HDF5 file
+   (missing, truncated, not HDF5); the caller words the refusal. */
+PetscErrorCode ClothH5FileOpen(MPI_Comm comm, const char path[], unsigned flags, hid_t *file, PetscBool *opened);
+/* Closes a file opened by the two above (no-op for a negative id) and sets *file to -1. */
+PetscErrorCode ClothH5FileClose(hid_t *file);
+
+/* Whether the link (group, dataset) loc/name exists; name may be a relative path ("a/b"). */
+PetscErrorCode ClothH5LinkExists(hid_t loc, const char name[], PetscBool *exists);
+/* Deletes loc/name when it exists (its space is not reclaimed in the file; h5repack does that). */
+PetscErrorCode ClothH5LinkDeleteIfExists(hid_t loc, const char name[]);
+
+/* Writes a Vec of global size rows*ncomp as the float64 dataset loc/name of shape (rows, ncomp).
+   The ownership range must hold whole rows (block size ncomp, or a layout made in multiples of it). */
+PetscErrorCode ClothH5WriteVec(hid_t loc, const char name[], Vec v, PetscInt ncomp);
+/* Reads loc/name, which must be (rows, ncomp) with rows*ncomp the global size of v, into v. */
+PetscErrorCode ClothH5ReadVec(hid_t loc, const char name[], Vec v, PetscInt ncomp);
+/* Writes a table (rows, cols) that every rank holds in full (topology, a static mesh): rank 0 writes
+   it, the others take part in the collective call with an empty selection. */
+PetscErrorCode ClothH5WriteIntTable(MPI_Comm comm, hid_t loc, const char name[], PetscInt rows, PetscInt cols, const PetscInt data[]);
+PetscErrorCode ClothH5WriteRealTable(MPI_Comm comm, hid_t loc, const char name[], PetscInt rows, PetscInt cols, const PetscReal data[]);
+
+/* Scalar attributes on a group or dataset; a write replaces an attribute of the same name. Strings
+   are stored as fixed-length, null-terminated ASCII; a read truncates to len - 1 characters. */
+PetscErrorCode ClothH5AttributeExists(hid_t obj, const char name[], PetscBool *exists);
+PetscErrorCode ClothH5AttributeWriteInt64(hid_t obj, const char name[], PetscInt64 value);
+PetscErrorCode ClothH5AttributeWriteUInt64(hid_t obj, const char name[], uint64_t value);
+PetscErrorCode ClothH5AttributeWriteReal(hid_t obj, const char name[], PetscReal value);
+PetscErrorCode ClothH5AttributeWriteString(hid_t obj, const char name[], const char value[]);
+PetscErrorCode ClothH5AttributeReadInt64(hid_t obj, const char name[], PetscInt64 *value);
+PetscErrorCode ClothH5AttributeReadUInt64(hid_t obj, const char name[], uint64_t *value);
+PetscErrorCode ClothH5AttributeReadReal(hid_t obj, const char name[], PetscReal *value);
+PetscErrorCode ClothH5AttributeReadString(hid_t obj, const char name[], char value[], size_t len);

@@ -1,0 +1,1021 @@
+/* Scene reader: a YAML scene file -> struct _n_Scene (see scene.h), with validation.
+
+   Format (docs/scene_format.md has the full description):
+
+     name: hanging_sheet              # optional, default: the file's base name without extension
+     gravity: [0, -9.81, 0]           # optional, default (0, -9.81, 0), m/s^2
+     fabrics:                         # required, map name -> fabric (at least one)
+       net:
+         density: 0.2                 # kg/m^2, required, > 0
+         stretch: 1000                # N/m, > 0; or stretch_warp / stretch_weft (each defaults to stretch)
+         shear: 1000                  # N/m, default 0, >= 0
+         shear_model: link            # link | angle (default link)
+         bend: 10                     # link model: N/m per skip-one link; angle model: rigidity N m;
+                                      # or bend_warp / bend_weft (each defaults to bend); default 0, >= 0
+         bend_model: link             # link | angle (default link)
+         damping: 0.0                 # 1/s, default 0, >= 0
+         repulsion: 0.0               # fraction of rest length, in [0, 1), default 0 (off)
+         repulsion_stiffness: 10      # relative to the stretch stiffness, default 10, >= 0
+     pieces:                          # required, list, at least one
+       - name: sheet                  # required, unique
+         fabric: net                  # required, a key of fabrics
+         grid: [65, 65]               # required: nu, nv (integers >= 2)
+         size: [1.0, 1.0]             # required: extent along u and v, m (> 0)
+         origin: [0, 1, 0]            # default [0, 0, 0], m
+         u_axis: [1, 0, 0]            # default [1, 0, 0]; nonzero, normalised
+         v_axis: [0, 0, 1]            # default [0, 1, 0]; nonzero, normalised, orthogonal to u_axis
+         mass: uniform                # area | uniform (default area)
+         pins: [[0, 0], [-1, 0]]      # optional list of [i, j]; negative counts from the end (-1 = last)
+     run:                             # optional defaults for run-level options (command-line options override)
+       integrator: implicit           # explicit | symplectic | implicit
+       dt: 0.004166666666666667       # s, > 0
+       t_final: 1.0                   # s, > 0; or steps: 240 (integer >= 1), not both
+       output_every: 24               # integer >= 1
+       checkpoint_every: 0            # integer >= 0
+
+   How it reads: rank 0 reads the bytes, broadcasts them, and every rank parses the same bytes with libyaml's
+   document API, so every rank fails or succeeds alike. Each block has a table of its allowed keys
+   (SceneTopKeys, SceneFabricKeys, ScenePieceKeys, SceneRunKeys) checked before any value is read, and a reader
+   that reads one key per line with a helper per kind of value (ReadReal, ReadRealList, ReadInt, ReadIntList,
+   ReadString, ReadChoice, ReadDirection). A new key is one entry in the table and one line in the reader; a new
+   block (bodies:, seams:) is one table and one reader function.
+
+   Every error names the file, the line (libyaml's mark, 1-based), the key and the block, what was expected and
+   what was found:  scene FILE, line L: key 'KEY' in fabric 'NAME': expected a positive number (kg/m^2), got '-1' */
+#include <errno.h>
+#include <inttypes.h>
+#include <limits.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <petscviewer.h>
+#include <yaml.h>
+#include "scene.h"
+
+const char *const ClothShearModels[]       = {"link", "angle", "ClothShearModel", "CLOTH_SHEAR_", NULL};
+const char *const ClothBendModels[]        = {"link", "angle", "ClothBendModel", "CLOTH_BEND_", NULL};
+const char *const ClothMassDistributions[] = {"area", "uniform", "ClothMassDistribution", "CLOTH_MASS_", NULL};
+/* Written in the same PETSc enum-list style so that ReadChoice treats every list of names alike; the integrator
+   module owns the actual type. */
+static const char *const SceneIntegrators[] = {"explicit", "symplectic", "implicit", "SceneIntegrator", "SCENE_INTEGRATOR_", NULL};
+
+/* Allowed keys per block (NULL-terminated). */
+static const char *const SceneTopKeys[]    = {"name", "gravity", "fabrics", "pieces", "run", NULL};
+static const char *const SceneFabricKeys[] = {"density", "stretch", "stretch_warp", "stretch_weft", "shear", "shear_model", "bend", "bend_warp", "bend_weft", "bend_model", "damping", "repulsion", "repulsion_stiffness", NULL};
+static const char *const ScenePieceKeys[]  = {"name", "fabric", "grid", "size", "origin", "u_axis", "v_axis", "mass", "pins", NULL};
+static const char *const SceneRunKeys[]    = {"integrator", "dt", "t_final", "steps", "output_every", "checkpoint_every", NULL};
+
+#define SCENE_ORTHOGONALITY_TOL 1e-6
+#define SCENE_TEXT_LEN 1024    /* room for an expectation or a description in a message */
+#define SCENE_DESCRIBE_DEPTH 3 /* nested lists shown in messages (aliases may make cycles) */
+#define SCENE_FNV_OFFSET UINT64_C(0xcbf29ce484222325)
+#define SCENE_FNV_PRIME UINT64_C(0x100000001b3)
+
+/* 1-based line of a node, as editors count */
+#define SceneNodeLine(node) ((int)(node)->start_mark.line + 1)
+
+/* Admissible ranges of real values; each has the words used in messages. */
+typedef enum {
+  SCENE_REAL_ANY,
+  SCENE_REAL_POSITIVE,
+  SCENE_REAL_NONNEGATIVE,
+  SCENE_REAL_FRACTION /* [0, 1) */
+} SceneRealRange;
+static const char *const SceneRealRangeAdjective[] = {"", "positive ", "non-negative ", ""};
+static const char *const SceneRealRangeSuffix[]    = {"", "", "", " in [0, 1)"};
+
+typedef struct {
+  MPI_Comm         comm;
+  const char      *path;
+  yaml_document_t *doc;
+  char             block[2 * CLOTH_NAME_LEN + 16]; /* the block being read: "fabric 'net'", "piece 2", "run"; "" at the top level */
+} SceneReader;
+
+/* ------------------------------------------------------------------------------------------------------------ */
+/* Messages                                                                                                     */
+
+/* Appends a short rendering of a node to buf: plain scalars as written, quoted ones in quotes, lists in brackets. */
+static PetscErrorCode SceneDescribeAppend(SceneReader *r, yaml_node_t *node, int depth, char buf[], size_t len)
+{
+  PetscFunctionBeginUser;
+  if (!node) PetscFunctionReturn(PETSC_SUCCESS);
+  if (node->type == YAML_SCALAR_NODE) {
+    PetscBool plain = node->data.scalar.style == YAML_PLAIN_SCALAR_STYLE ? PETSC_TRUE : PETSC_FALSE;
+    if (!plain) PetscCall(PetscStrlcat(buf, "\"", len));
+    PetscCall(PetscStrlcat(buf, (const char *)node->data.scalar.value, len));
+    if (!plain) PetscCall(PetscStrlcat(buf, "\"", len));
+  } else if (node->type == YAML_SEQUENCE_NODE && depth < SCENE_DESCRIBE_DEPTH) {
+    PetscCall(PetscStrlcat(buf, "[", len));
+    for (yaml_node_item_t *item = node->data.sequence.items.start; item < node->data.sequence.items.top; item++) {
+      if (item > node->data.sequence.items.start) PetscCall(PetscStrlcat(buf, ", ", len));
+      PetscCall(SceneDescribeAppend(r, yaml_document_get_node(r->doc, *item), depth + 1, buf, len));
+    }
+    PetscCall(PetscStrlcat(buf, "]", len));
+  } else {
+    PetscCall(PetscStrlcat(buf, node->type == YAML_MAPPING_NODE ? "{...}" : "[...]", len));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* What a node holds, for "got ...": 'text', "quoted text" (a quoted string), [a, b], a map, an empty map, nothing. */
+static PetscErrorCode SceneDescribeNode(SceneReader *r, yaml_node_t *node, char buf[], size_t len)
+{
+  PetscFunctionBeginUser;
+  buf[0] = 0;
+  if (node->type == YAML_MAPPING_NODE)
+    PetscCall(PetscStrncpy(buf, node->data.mapping.pairs.top > node->data.mapping.pairs.start ? "a map" : "an empty map", len));
+  else if (node->type == YAML_SEQUENCE_NODE)
+    PetscCall(SceneDescribeAppend(r, node, 0, buf, len));
+  else if (node->data.scalar.style != YAML_PLAIN_SCALAR_STYLE) {
+    PetscCall(SceneDescribeAppend(r, node, 0, buf, len));
+    PetscCall(PetscStrlcat(buf, " (a quoted string)", len));
+  } else if (node->data.scalar.length == 0)
+    PetscCall(PetscStrncpy(buf, "nothing", len));
+  else
+    PetscCall(PetscSNPrintf(buf, len, "'%s'", (const char *)node->data.scalar.value));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Joins n names (n < 0: up to the NULL) into "a, b, c". */
+static PetscErrorCode SceneJoinNames(const char *const names[], PetscInt n, char buf[], size_t len)
+{
+  PetscFunctionBeginUser;
+  buf[0] = 0;
+  for (PetscInt i = 0; (n < 0 || i < n) && names[i]; i++) {
+    if (i) PetscCall(PetscStrlcat(buf, ", ", len));
+    PetscCall(PetscStrlcat(buf, names[i], len));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Where in the file: "key 'K' in fabric 'net'", "key 'K'", "fabric 'net'" (key NULL) or "the top level". */
+static PetscErrorCode SceneWhere(SceneReader *r, const char key[], char buf[], size_t len)
+{
+  PetscFunctionBeginUser;
+  if (key && r->block[0])
+    PetscCall(PetscSNPrintf(buf, len, "key '%s' in %s", key, r->block));
+  else if (key)
+    PetscCall(PetscSNPrintf(buf, len, "key '%s'", key));
+  else
+    PetscCall(PetscStrncpy(buf, r->block[0] ? r->block : "the top level", len));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Fails with "scene F, line L: key 'K' in B: expected <fmt...>, got <value>" (key NULL: the block itself). */
+static PetscErrorCode SceneFailValue(SceneReader *r, yaml_node_t *value, const char key[], const char fmt[], ...) PETSC_ATTRIBUTE_FORMAT(4, 5);
+static PetscErrorCode SceneFailValue(SceneReader *r, yaml_node_t *value, const char key[], const char fmt[], ...)
+{
+  char    expected[SCENE_TEXT_LEN], got[SCENE_TEXT_LEN], where[SCENE_TEXT_LEN];
+  va_list args;
+
+  PetscFunctionBeginUser;
+  va_start(args, fmt);
+  vsnprintf(expected, sizeof(expected), fmt, args);
+  va_end(args);
+  PetscCall(SceneDescribeNode(r, value, got, sizeof(got)));
+  PetscCall(SceneWhere(r, key, where, sizeof(where)));
+  SETERRQ(r->comm, PETSC_ERR_USER_INPUT, "scene %s, line %d: %s: expected %s, got %s", r->path, SceneNodeLine(value), where, expected, got);
+}
+
+/* Fails with "scene F, line L: key 'K' in B is missing: expected <fmt...>", L being the line of the block. */
+static PetscErrorCode SceneFailMissing(SceneReader *r, yaml_node_t *map, const char key[], const char fmt[], ...) PETSC_ATTRIBUTE_FORMAT(4, 5);
+static PetscErrorCode SceneFailMissing(SceneReader *r, yaml_node_t *map, const char key[], const char fmt[], ...)
+{
+  char    expected[SCENE_TEXT_LEN], where[SCENE_TEXT_LEN];
+  va_list args;
+
+  PetscFunctionBeginUser;
+  va_start(args, fmt);
+  vsnprintf(expected, sizeof(expected), fmt, args);
+  va_end(args);
+  PetscCall(SceneWhere(r, key, where, sizeof(where)));
+  SETERRQ(r->comm, PETSC_ERR_USER_INPUT, "scene %s, line %d: %s is missing: expected %s", r->path, SceneNodeLine(map), where, expected);
+}
+
+/* "a positive number (kg/m^2)" (count 0) or "a list of 3 numbers (m/s^2)" */
+static PetscErrorCode SceneExpectReal(PetscInt count, SceneRealRange range, const char unit[], char buf[], size_t len)
+{
+  char units[CLOTH_NAME_LEN] = "";
+
+  PetscFunctionBeginUser;
+  if (unit) PetscCall(PetscSNPrintf(units, sizeof(units), " (%s)", unit));
+  if (count)
+    PetscCall(PetscSNPrintf(buf, len, "a list of %" PetscInt_FMT " %snumbers%s%s", count, SceneRealRangeAdjective[range], SceneRealRangeSuffix[range], units));
+  else
+    PetscCall(PetscSNPrintf(buf, len, "a %snumber%s%s", SceneRealRangeAdjective[range], SceneRealRangeSuffix[range], units));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* "an integer >= 2" (count 0) or "a list of 2 integers >= 2"; min PETSC_MIN_INT: no bound */
+static PetscErrorCode SceneExpectInt(PetscInt count, PetscInt min, char buf[], size_t len)
+{
+  char bound[CLOTH_NAME_LEN] = "";
+
+  PetscFunctionBeginUser;
+  if (min > PETSC_MIN_INT) PetscCall(PetscSNPrintf(bound, sizeof(bound), " >= %" PetscInt_FMT, min));
+  if (count)
+    PetscCall(PetscSNPrintf(buf, len, "a list of %" PetscInt_FMT " integers%s", count, bound));
+  else
+    PetscCall(PetscSNPrintf(buf, len, "an integer%s", bound));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* ------------------------------------------------------------------------------------------------------------ */
+/* Nodes                                                                                                        */
+
+/* The value of key in map, or NULL when absent. */
+static PetscErrorCode SceneGetValue(SceneReader *r, yaml_node_t *map, const char key[], yaml_node_t **value)
+{
+  PetscFunctionBeginUser;
+  *value = NULL;
+  for (yaml_node_pair_t *pair = map->data.mapping.pairs.start; pair < map->data.mapping.pairs.top; pair++) {
+    yaml_node_t *k = yaml_document_get_node(r->doc, pair->key);
+    PetscBool    match;
+
+    PetscCall(PetscStrcmp((const char *)k->data.scalar.value, key, &match)); /* keys were checked to be scalars */
+    if (match) {
+      *value = yaml_document_get_node(r->doc, pair->value);
+      break;
+    }
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The value of key, or NULL when absent and not required; a missing required key is an error. */
+static PetscErrorCode SceneGetValueChecked(SceneReader *r, yaml_node_t *map, const char key[], PetscBool required, const char expected[], yaml_node_t **value)
+{
+  PetscFunctionBeginUser;
+  PetscCall(SceneGetValue(r, map, key, value));
+  if (!*value && required) PetscCall(SceneFailMissing(r, map, key, "%s", expected));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode SceneHasKey(SceneReader *r, yaml_node_t *map, const char key[], PetscBool *has)
+{
+  yaml_node_t *value;
+
+  PetscFunctionBeginUser;
+  PetscCall(SceneGetValue(r, map, key, &value));
+  *has = value ? PETSC_TRUE : PETSC_FALSE;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Every key of map is a scalar, appears once and (keys not NULL) is one of keys. */
+static PetscErrorCode SceneCheckKeys(SceneReader *r, yaml_node_t *map, const char *const keys[])
+{
+  char allowed[SCENE_TEXT_LEN] = "", where[SCENE_TEXT_LEN];
+
+  PetscFunctionBeginUser;
+  if (keys) PetscCall(SceneJoinNames(keys, -1, allowed, sizeof(allowed)));
+  for (yaml_node_pair_t *pair = map->data.mapping.pairs.start; pair < map->data.mapping.pairs.top; pair++) {
+    yaml_node_t *k = yaml_document_get_node(r->doc, pair->key);
+    const char  *name;
+    PetscBool    known = keys ? PETSC_FALSE : PETSC_TRUE;
+
+    if (k->type != YAML_SCALAR_NODE) PetscCall(SceneFailValue(r, k, NULL, "a name as key, one of %s", keys ? allowed : "the names"));
+    name = (const char *)k->data.scalar.value;
+    PetscCall(SceneWhere(r, name, where, sizeof(where)));
+    for (PetscInt i = 0; keys && keys[i] && !known; i++) PetscCall(PetscStrcmp(name, keys[i], &known));
+    PetscCheck(known, r->comm, PETSC_ERR_USER_INPUT, "scene %s, line %d: %s is not allowed: expected one of %s", r->path, SceneNodeLine(k), where, allowed);
+    for (yaml_node_pair_t *prev = map->data.mapping.pairs.start; prev < pair; prev++) {
+      yaml_node_t *p = yaml_document_get_node(r->doc, prev->key);
+      PetscBool    same;
+
+      PetscCall(PetscStrcmp(name, (const char *)p->data.scalar.value, &same));
+      PetscCheck(!same, r->comm, PETSC_ERR_USER_INPUT, "scene %s, line %d: %s is given twice (lines %d and %d): expected each key once", r->path, SceneNodeLine(k), where, SceneNodeLine(p), SceneNodeLine(k));
+    }
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* node (the value of key; key NULL: a block) must be a map whose keys are among keys (NULL: any unique names,
+   described by what). */
+static PetscErrorCode SceneExpectMap(SceneReader *r, yaml_node_t *node, const char key[], const char *const keys[], const char what[])
+{
+  char allowed[SCENE_TEXT_LEN];
+
+  PetscFunctionBeginUser;
+  if (node->type != YAML_MAPPING_NODE) {
+    if (keys) PetscCall(SceneJoinNames(keys, -1, allowed, sizeof(allowed)));
+    PetscCall(SceneFailValue(r, node, key, "%s%s", keys ? "a map with keys among " : what, keys ? allowed : ""));
+  }
+  PetscCall(SceneCheckKeys(r, node, keys));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* node must be a list of count items (count < 0: any number); returns its items. */
+static PetscErrorCode SceneGetItems(SceneReader *r, yaml_node_t *node, const char key[], PetscInt count, const char expected[], yaml_node_item_t **items, PetscInt *n)
+{
+  PetscFunctionBeginUser;
+  if (node->type != YAML_SEQUENCE_NODE) PetscCall(SceneFailValue(r, node, key, "%s", expected));
+  *items = node->data.sequence.items.start;
+  *n     = (PetscInt)(node->data.sequence.items.top - node->data.sequence.items.start);
+  if (count >= 0 && *n != count) PetscCall(SceneFailValue(r, node, key, "%s", expected));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* A plain scalar (numbers must not be quoted). On failure the message shows errnode (the list holding node). */
+static PetscErrorCode SceneGetNumberText(SceneReader *r, yaml_node_t *node, yaml_node_t *errnode, const char key[], const char expected[], const char **text)
+{
+  PetscFunctionBeginUser;
+  if (node->type != YAML_SCALAR_NODE || node->data.scalar.style != YAML_PLAIN_SCALAR_STYLE || node->data.scalar.length == 0) PetscCall(SceneFailValue(r, errnode, key, "%s", expected));
+  *text = (const char *)node->data.scalar.value;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode SceneParseReal(SceneReader *r, yaml_node_t *node, yaml_node_t *errnode, const char key[], SceneRealRange range, const char expected[], PetscReal *value)
+{
+  const char *text = NULL;
+  char       *end;
+  double      x;
+  PetscBool   ok;
+
+  PetscFunctionBeginUser;
+  PetscCall(SceneGetNumberText(r, node, errnode, key, expected, &text));
+  errno = 0;
+  x     = strtod(text, &end);
+  ok    = (*end == 0 && errno == 0 && isfinite(x)) ? PETSC_TRUE : PETSC_FALSE;
+  if (range == SCENE_REAL_POSITIVE) ok = (ok && x > 0) ? PETSC_TRUE : PETSC_FALSE;
+  if (range == SCENE_REAL_NONNEGATIVE) ok = (ok && x >= 0) ? PETSC_TRUE : PETSC_FALSE;
+  if (range == SCENE_REAL_FRACTION) ok = (ok && x >= 0 && x < 1) ? PETSC_TRUE : PETSC_FALSE;
+  if (!ok) PetscCall(SceneFailValue(r, errnode, key, "%s", expected));
+  *value = (PetscReal)x;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode SceneParseInt(SceneReader *r, yaml_node_t *node, yaml_node_t *errnode, const char key[], PetscInt min, const char expected[], PetscInt *value)
+{
+  const char *text = NULL;
+  char       *end;
+  long long   x;
+
+  PetscFunctionBeginUser;
+  PetscCall(SceneGetNumberText(r, node, errnode, key, expected, &text));
+  errno = 0;
+  x     = strtoll(text, &end, 10);
+  if (*end || errno || x < min || x > PETSC_MAX_INT) PetscCall(SceneFailValue(r, errnode, key, "%s", expected));
+  *value = (PetscInt)x;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode SceneParseRealList(SceneReader *r, yaml_node_t *node, const char key[], PetscInt count, SceneRealRange range, const char expected[], PetscReal values[])
+{
+  yaml_node_item_t *items = NULL;
+  PetscInt          n;
+
+  PetscFunctionBeginUser;
+  PetscCall(SceneGetItems(r, node, key, count, expected, &items, &n));
+  for (PetscInt i = 0; i < n; i++) PetscCall(SceneParseReal(r, yaml_document_get_node(r->doc, items[i]), node, key, range, expected, &values[i]));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode SceneParseIntList(SceneReader *r, yaml_node_t *node, const char key[], PetscInt count, PetscInt min, const char expected[], PetscInt values[])
+{
+  yaml_node_item_t *items = NULL;
+  PetscInt          n;
+
+  PetscFunctionBeginUser;
+  PetscCall(SceneGetItems(r, node, key, count, expected, &items, &n));
+  for (PetscInt i = 0; i < n; i++) PetscCall(SceneParseInt(r, yaml_document_get_node(r->doc, items[i]), node, key, min, expected, &values[i]));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* ------------------------------------------------------------------------------------------------------------ */
+/* Keys: each reads map[key] into its output, which keeps its default when the key is absent and not required.  */
+
+static PetscErrorCode ReadReal(SceneReader *r, yaml_node_t *map, const char key[], PetscBool required, SceneRealRange range, const char unit[], PetscReal *value)
+{
+  char         expected[SCENE_TEXT_LEN];
+  yaml_node_t *node;
+
+  PetscFunctionBeginUser;
+  PetscCall(SceneExpectReal(0, range, unit, expected, sizeof(expected)));
+  PetscCall(SceneGetValueChecked(r, map, key, required, expected, &node));
+  if (node) PetscCall(SceneParseReal(r, node, node, key, range, expected, value));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode ReadRealList(SceneReader *r, yaml_node_t *map, const char key[], PetscBool required, PetscInt count, SceneRealRange range, const char unit[], PetscReal values[])
+{
+  char         expected[SCENE_TEXT_LEN];
+  yaml_node_t *node;
+
+  PetscFunctionBeginUser;
+  PetscCall(SceneExpectReal(count, range, unit, expected, sizeof(expected)));
+  PetscCall(SceneGetValueChecked(r, map, key, required, expected, &node));
+  if (node) PetscCall(SceneParseRealList(r, node, key, count, range, expected, values));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* An optional direction: 3 numbers, not all zero, normalised on return. */
+static PetscErrorCode ReadDirection(SceneReader *r, yaml_node_t *map, const char key[], PetscReal dir[3])
+{
+  const char   expected[] = "a nonzero direction (a list of 3 numbers)";
+  yaml_node_t *node;
+  PetscReal    norm;
+
+  PetscFunctionBeginUser;
+  PetscCall(SceneGetValue(r, map, key, &node));
+  if (!node) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(SceneParseRealList(r, node, key, 3, SCENE_REAL_ANY, expected, dir));
+  norm = PetscSqrtReal(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
+  if (!(norm > 0) || PetscIsInfOrNanReal(norm)) PetscCall(SceneFailValue(r, node, key, "%s", expected));
+  for (PetscInt d = 0; d < 3; d++) dir[d] /= norm;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode ReadInt(SceneReader *r, yaml_node_t *map, const char key[], PetscBool required, PetscInt min, PetscInt *value)
+{
+  char         expected[SCENE_TEXT_LEN];
+  yaml_node_t *node;
+
+  PetscFunctionBeginUser;
+  PetscCall(SceneExpectInt(0, min, expected, sizeof(expected)));
+  PetscCall(SceneGetValueChecked(r, map, key, required, expected, &node));
+  if (node) PetscCall(SceneParseInt(r, node, node, key, min, expected, value));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode ReadIntList(SceneReader *r, yaml_node_t *map, const char key[], PetscBool required, PetscInt count, PetscInt min, PetscInt values[])
+{
+  char         expected[SCENE_TEXT_LEN];
+  yaml_node_t *node;
+
+  PetscFunctionBeginUser;
+  PetscCall(SceneExpectInt(count, min, expected, sizeof(expected)));
+  PetscCall(SceneGetValueChecked(r, map, key, required, expected, &node));
+  if (node) PetscCall(SceneParseIntList(r, node, key, count, min, expected, values));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* A name: a non-empty scalar shorter than len; returns its node (NULL when absent) for later messages. */
+static PetscErrorCode ReadString(SceneReader *r, yaml_node_t *map, const char key[], PetscBool required, char buf[], size_t len, yaml_node_t **where)
+{
+  char         expected[SCENE_TEXT_LEN];
+  yaml_node_t *node;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscSNPrintf(expected, sizeof(expected), "a name (text of 1 to %d characters)", (int)len - 1));
+  PetscCall(SceneGetValueChecked(r, map, key, required, expected, &node));
+  if (where) *where = node;
+  if (!node) PetscFunctionReturn(PETSC_SUCCESS);
+  if (node->type != YAML_SCALAR_NODE || node->data.scalar.length == 0 || node->data.scalar.length >= len) PetscCall(SceneFailValue(r, node, key, "%s", expected));
+  PetscCall(PetscStrncpy(buf, (const char *)node->data.scalar.value, len));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* One of the names of a PETSc enum-style list (names..., type name, prefix, NULL); returns its index. */
+static PetscErrorCode ReadChoice(SceneReader *r, yaml_node_t *map, const char key[], PetscBool required, const char *const choices[], PetscInt *index)
+{
+  char         expected[SCENE_TEXT_LEN], names[SCENE_TEXT_LEN];
+  yaml_node_t *node;
+  PetscInt     n = 0;
+
+  PetscFunctionBeginUser;
+  while (choices[n]) n++;
+  n -= 2; /* the type name and the prefix */
+  PetscCall(SceneJoinNames(choices, n, names, sizeof(names)));
+  PetscCall(PetscSNPrintf(expected, sizeof(expected), "one of %s", names));
+  PetscCall(SceneGetValueChecked(r, map, key, required, expected, &node));
+  if (!node) PetscFunctionReturn(PETSC_SUCCESS);
+  if (node->type == YAML_SCALAR_NODE) {
+    for (PetscInt i = 0; i < n; i++) {
+      PetscBool match;
+
+      PetscCall(PetscStrcmp((const char *)node->data.scalar.value, choices[i], &match));
+      if (match) {
+        *index = i;
+        PetscFunctionReturn(PETSC_SUCCESS);
+      }
+    }
+  }
+  PetscCall(SceneFailValue(r, node, key, "%s", expected));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* ------------------------------------------------------------------------------------------------------------ */
+/* Blocks                                                                                                       */
+
+/* A stiffness given as key or as key_warp / key_weft (each defaulting to key); required: in one of these forms. */
+static PetscErrorCode ReadWarpWeft(SceneReader *r, yaml_node_t *map, const char key[], PetscBool required, SceneRealRange range, const char unit[], PetscReal *warp, PetscReal *weft)
+{
+  char      key_warp[CLOTH_NAME_LEN], key_weft[CLOTH_NAME_LEN], expected[SCENE_TEXT_LEN];
+  PetscBool has = PETSC_FALSE, has_warp = PETSC_FALSE, has_weft = PETSC_FALSE;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscSNPrintf(key_warp, sizeof(key_warp), "%s_warp", key));
+  PetscCall(PetscSNPrintf(key_weft, sizeof(key_weft), "%s_weft", key));
+  PetscCall(SceneHasKey(r, map, key, &has));
+  PetscCall(SceneHasKey(r, map, key_warp, &has_warp));
+  PetscCall(SceneHasKey(r, map, key_weft, &has_weft));
+  if (required && !has && !(has_warp && has_weft)) {
+    PetscCall(SceneExpectReal(0, range, unit, expected, sizeof(expected)));
+    PetscCall(SceneFailMissing(r, map, key, "%s, or both %s and %s", expected, key_warp, key_weft));
+  }
+  PetscCall(ReadReal(r, map, key, PETSC_FALSE, range, unit, warp));
+  *weft = *warp;
+  PetscCall(ReadReal(r, map, key_warp, PETSC_FALSE, range, unit, warp));
+  PetscCall(ReadReal(r, map, key_weft, PETSC_FALSE, range, unit, weft));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode SceneReadFabric(SceneReader *r, yaml_node_t *name, yaml_node_t *map, SceneFabric *fabric)
+{
+  PetscInt shear_model = CLOTH_SHEAR_LINK, bend_model = CLOTH_BEND_LINK;
+
+  PetscFunctionBeginUser;
+  PetscCheck(name->data.scalar.length > 0 && name->data.scalar.length < CLOTH_NAME_LEN, r->comm, PETSC_ERR_USER_INPUT, "scene %s, line %d: fabric name '%s': expected a name of 1 to %d characters", r->path, SceneNodeLine(name),
+             (const char *)name->data.scalar.value, CLOTH_NAME_LEN - 1);
+  PetscCall(PetscStrncpy(fabric->name, (const char *)name->data.scalar.value, sizeof(fabric->name)));
+  PetscCall(PetscSNPrintf(r->block, sizeof(r->block), "fabric '%s'", fabric->name));
+  PetscCall(SceneExpectMap(r, map, NULL, SceneFabricKeys, NULL));
+  fabric->repulsion_stiffness = 10;
+  PetscCall(ReadReal(r, map, "density", PETSC_TRUE, SCENE_REAL_POSITIVE, "kg/m^2", &fabric->density));
+  PetscCall(ReadWarpWeft(r, map, "stretch", PETSC_TRUE, SCENE_REAL_POSITIVE, "N/m", &fabric->stretch_warp, &fabric->stretch_weft));
+  PetscCall(ReadReal(r, map, "shear", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "N/m", &fabric->shear));
+  PetscCall(ReadChoice(r, map, "shear_model", PETSC_FALSE, ClothShearModels, &shear_model));
+  PetscCall(ReadChoice(r, map, "bend_model", PETSC_FALSE, ClothBendModels, &bend_model));
+  PetscCall(ReadWarpWeft(r, map, "bend", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, bend_model == CLOTH_BEND_LINK ? "N/m per skip-one link" : "bending rigidity, N m", &fabric->bend_warp, &fabric->bend_weft));
+  PetscCall(ReadReal(r, map, "damping", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "1/s", &fabric->damping));
+  PetscCall(ReadReal(r, map, "repulsion", PETSC_FALSE, SCENE_REAL_FRACTION, "fraction of the rest length", &fabric->repulsion));
+  PetscCall(ReadReal(r, map, "repulsion_stiffness", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "relative to the stretch stiffness", &fabric->repulsion_stiffness));
+  fabric->shear_model = (ClothShearModel)shear_model;
+  fabric->bend_model  = (ClothBendModel)bend_model;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode SceneReadFabrics(SceneReader *r, yaml_node_t *root, Scene scene)
+{
+  const char   expected[] = "a map of fabric name -> fabric properties, with at least one fabric";
+  yaml_node_t *map;
+
+  PetscFunctionBeginUser;
+  PetscCall(SceneGetValueChecked(r, root, "fabrics", PETSC_TRUE, expected, &map));
+  PetscCall(SceneExpectMap(r, map, "fabrics", NULL, expected));
+  scene->nfabrics = (PetscInt)(map->data.mapping.pairs.top - map->data.mapping.pairs.start);
+  if (scene->nfabrics == 0) PetscCall(SceneFailValue(r, map, "fabrics", "%s", expected));
+  PetscCall(PetscCalloc1(scene->nfabrics, &scene->fabrics));
+  for (PetscInt f = 0; f < scene->nfabrics; f++) {
+    yaml_node_pair_t *pair = &map->data.mapping.pairs.start[f];
+
+    PetscCall(SceneReadFabric(r, yaml_document_get_node(r->doc, pair->key), yaml_document_get_node(r->doc, pair->value), &scene->fabrics[f]));
+  }
+  r->block[0] = 0;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Resolves pins_given (negative: from the end) into pins for the piece's current grid. */
+static PetscErrorCode ScenePieceResolvePins(MPI_Comm comm, const char path[], ScenePiece *piece)
+{
+  PetscFunctionBeginUser;
+  for (PetscInt p = 0; p < piece->npins; p++) {
+    PetscInt i = piece->pins_given[2 * p], j = piece->pins_given[2 * p + 1];
+
+    piece->pins[2 * p]     = i < 0 ? piece->nu + i : i;
+    piece->pins[2 * p + 1] = j < 0 ? piece->nv + j : j;
+    PetscCheck(piece->pins[2 * p] >= 0 && piece->pins[2 * p] < piece->nu && piece->pins[2 * p + 1] >= 0 && piece->pins[2 * p + 1] < piece->nv, comm, PETSC_ERR_USER_INPUT,
+               "scene %s: pin [%" PetscInt_FMT ", %" PetscInt_FMT "] of piece '%s' lies outside its %" PetscInt_FMT " x %" PetscInt_FMT " grid: expected -%" PetscInt_FMT " <= i < %" PetscInt_FMT " and -%" PetscInt_FMT " <= j < %" PetscInt_FMT, path,
+               i, j, piece->name, piece->nu, piece->nv, piece->nu, piece->nu, piece->nv, piece->nv);
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* pins: [[i, j], ...] within the grid (read after it). */
+static PetscErrorCode ReadPins(SceneReader *r, yaml_node_t *map, ScenePiece *piece)
+{
+  char              expected[SCENE_TEXT_LEN];
+  yaml_node_t      *node;
+  yaml_node_item_t *items = NULL;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscSNPrintf(expected, sizeof(expected),
+                          "a list of grid indices [i, j] with -%" PetscInt_FMT " <= i < %" PetscInt_FMT " and -%" PetscInt_FMT " <= j < %" PetscInt_FMT " (grid %" PetscInt_FMT " x %" PetscInt_FMT "; negative indices count from the end)", piece->nu,
+                          piece->nu, piece->nv, piece->nv, piece->nu, piece->nv));
+  PetscCall(SceneGetValue(r, map, "pins", &node));
+  if (!node) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(SceneGetItems(r, node, "pins", -1, expected, &items, &piece->npins));
+  PetscCall(PetscMalloc1(2 * piece->npins, &piece->pins));
+  PetscCall(PetscMalloc1(2 * piece->npins, &piece->pins_given));
+  for (PetscInt p = 0; p < piece->npins; p++) {
+    yaml_node_t *pair = yaml_document_get_node(r->doc, items[p]);
+    PetscInt    *ij   = &piece->pins_given[2 * p];
+
+    PetscCall(SceneParseIntList(r, pair, "pins", 2, PETSC_MIN_INT, expected, ij));
+    if (ij[0] < -piece->nu || ij[0] >= piece->nu || ij[1] < -piece->nv || ij[1] >= piece->nv) PetscCall(SceneFailValue(r, pair, "pins", "%s", expected));
+  }
+  PetscCall(ScenePieceResolvePins(r->comm, r->path, piece));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* fabric: the name of one of the scene's fabrics. */
+static PetscErrorCode ReadFabricName(SceneReader *r, yaml_node_t *map, Scene scene, ScenePiece *piece)
+{
+  char         name[CLOTH_NAME_LEN], names[SCENE_TEXT_LEN] = "";
+  yaml_node_t *node;
+
+  PetscFunctionBeginUser;
+  PetscCall(ReadString(r, map, "fabric", PETSC_TRUE, name, sizeof(name), &node));
+  for (PetscInt f = 0; f < scene->nfabrics; f++) {
+    PetscBool match;
+
+    PetscCall(PetscStrcmp(name, scene->fabrics[f].name, &match));
+    if (match) {
+      piece->fabric = f;
+      PetscFunctionReturn(PETSC_SUCCESS);
+    }
+    if (f) PetscCall(PetscStrlcat(names, ", ", sizeof(names)));
+    PetscCall(PetscStrlcat(names, scene->fabrics[f].name, sizeof(names)));
+  }
+  PetscCall(SceneFailValue(r, node, "fabric", "the name of a fabric given under 'fabrics' (one of %s)", names));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* u_axis and v_axis: unit vectors, orthogonal within SCENE_ORTHOGONALITY_TOL. */
+static PetscErrorCode ReadAxes(SceneReader *r, yaml_node_t *map, ScenePiece *piece)
+{
+  yaml_node_t *node;
+  PetscReal    dot;
+
+  PetscFunctionBeginUser;
+  PetscCall(ReadDirection(r, map, "u_axis", piece->u_axis));
+  PetscCall(ReadDirection(r, map, "v_axis", piece->v_axis));
+  dot = piece->u_axis[0] * piece->v_axis[0] + piece->u_axis[1] * piece->v_axis[1] + piece->u_axis[2] * piece->v_axis[2];
+  if (PetscAbsReal(dot) > SCENE_ORTHOGONALITY_TOL) {
+    PetscCall(SceneGetValue(r, map, "v_axis", &node));
+    if (node)
+      PetscCall(SceneFailValue(r, node, "v_axis", "a direction orthogonal to u_axis = (%g, %g, %g) (|u.v| <= %g after normalising; here u.v = %g)", (double)piece->u_axis[0], (double)piece->u_axis[1], (double)piece->u_axis[2], SCENE_ORTHOGONALITY_TOL,
+                               (double)dot));
+    PetscCall(SceneGetValue(r, map, "u_axis", &node));
+    PetscCall(SceneFailValue(r, node, "u_axis", "a direction orthogonal to the default v_axis = (0, 1, 0) (|u.v| <= %g after normalising; here u.v = %g)", SCENE_ORTHOGONALITY_TOL, (double)dot));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode SceneReadPiece(SceneReader *r, yaml_node_t *map, Scene scene, PetscInt index)
+{
+  ScenePiece  *piece = &scene->pieces[index];
+  yaml_node_t *name;
+  PetscInt     mass = CLOTH_MASS_AREA;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscSNPrintf(r->block, sizeof(r->block), "piece %" PetscInt_FMT, index + 1));
+  PetscCall(SceneExpectMap(r, map, NULL, ScenePieceKeys, NULL));
+  PetscCall(ReadString(r, map, "name", PETSC_TRUE, piece->name, sizeof(piece->name), &name));
+  for (PetscInt p = 0; p < index; p++) {
+    PetscBool same;
+
+    PetscCall(PetscStrcmp(piece->name, scene->pieces[p].name, &same));
+    if (same) PetscCall(SceneFailValue(r, name, "name", "a name not used by another piece (piece %" PetscInt_FMT " is also called '%s')", p + 1, piece->name));
+  }
+  PetscCall(PetscSNPrintf(r->block, sizeof(r->block), "piece '%s'", piece->name));
+  PetscCall(ReadFabricName(r, map, scene, piece));
+  PetscCall(ReadIntList(r, map, "grid", PETSC_TRUE, 2, 2, piece->grid_given));
+  piece->nu = piece->grid_given[0];
+  piece->nv = piece->grid_given[1];
+  PetscCall(ReadRealList(r, map, "size", PETSC_TRUE, 2, SCENE_REAL_POSITIVE, "m", piece->size));
+  PetscCall(ReadRealList(r, map, "origin", PETSC_FALSE, 3, SCENE_REAL_ANY, "m", piece->origin));
+  piece->u_axis[0] = 1;
+  piece->v_axis[1] = 1;
+  PetscCall(ReadAxes(r, map, piece));
+  PetscCall(ReadChoice(r, map, "mass", PETSC_FALSE, ClothMassDistributions, &mass));
+  piece->mass_distribution = (ClothMassDistribution)mass;
+  PetscCall(ReadPins(r, map, piece));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode SceneReadPieces(SceneReader *r, yaml_node_t *root, Scene scene)
+{
+  const char        expected[] = "a list of pieces, with at least one piece";
+  yaml_node_t      *list;
+  yaml_node_item_t *items = NULL;
+
+  PetscFunctionBeginUser;
+  PetscCall(SceneGetValueChecked(r, root, "pieces", PETSC_TRUE, expected, &list));
+  PetscCall(SceneGetItems(r, list, "pieces", -1, expected, &items, &scene->npieces));
+  if (scene->npieces == 0) PetscCall(SceneFailValue(r, list, "pieces", "%s", expected));
+  PetscCall(PetscCalloc1(scene->npieces, &scene->pieces));
+  for (PetscInt p = 0; p < scene->npieces; p++) PetscCall(SceneReadPiece(r, yaml_document_get_node(r->doc, items[p]), scene, p));
+  r->block[0]        = 0;
+  scene->single_grid = scene->npieces == 1 ? PETSC_TRUE : PETSC_FALSE;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode SceneReadRun(SceneReader *r, yaml_node_t *root, SceneRunDefaults *run)
+{
+  yaml_node_t *map;
+  PetscInt     integrator  = -1;
+  PetscBool    has_t_final = PETSC_FALSE, has_steps = PETSC_FALSE;
+
+  PetscFunctionBeginUser;
+  PetscCall(SceneGetValue(r, root, "run", &map));
+  if (!map) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(SceneExpectMap(r, map, "run", SceneRunKeys, NULL));
+  PetscCall(PetscStrncpy(r->block, "run", sizeof(r->block)));
+  PetscCall(ReadChoice(r, map, "integrator", PETSC_FALSE, SceneIntegrators, &integrator));
+  if (integrator >= 0) PetscCall(PetscStrncpy(run->integrator, SceneIntegrators[integrator], sizeof(run->integrator)));
+  PetscCall(ReadReal(r, map, "dt", PETSC_FALSE, SCENE_REAL_POSITIVE, "s", &run->dt));
+  PetscCall(ReadReal(r, map, "t_final", PETSC_FALSE, SCENE_REAL_POSITIVE, "s", &run->t_final));
+  PetscCall(ReadInt(r, map, "steps", PETSC_FALSE, 1, &run->steps));
+  PetscCall(SceneHasKey(r, map, "t_final", &has_t_final));
+  PetscCall(SceneHasKey(r, map, "steps", &has_steps));
+  PetscCheck(!(has_t_final && has_steps), r->comm, PETSC_ERR_USER_INPUT, "scene %s, line %d: keys 't_final' and 'steps' in run are both given: expected one of them", r->path, SceneNodeLine(map));
+  PetscCall(ReadInt(r, map, "output_every", PETSC_FALSE, 1, &run->output_every));
+  PetscCall(ReadInt(r, map, "checkpoint_every", PETSC_FALSE, 0, &run->checkpoint_every));
+  r->block[0] = 0;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode SceneReadDocument(SceneReader *r, Scene scene)
+{
+  yaml_node_t *root = yaml_document_get_root_node(r->doc);
+  char         keys[SCENE_TEXT_LEN];
+
+  PetscFunctionBeginUser;
+  PetscCall(SceneJoinNames(SceneTopKeys, -1, keys, sizeof(keys)));
+  PetscCheck(root, r->comm, PETSC_ERR_USER_INPUT, "scene %s, line 1: the file is empty: expected a map with keys among %s", r->path, keys);
+  PetscCall(SceneExpectMap(r, root, NULL, SceneTopKeys, NULL));
+  PetscCall(ReadString(r, root, "name", PETSC_FALSE, scene->name, sizeof(scene->name), NULL));
+  PetscCall(ReadRealList(r, root, "gravity", PETSC_FALSE, 3, SCENE_REAL_ANY, "m/s^2", scene->gravity));
+  PetscCall(SceneReadFabrics(r, root, scene));
+  PetscCall(SceneReadPieces(r, root, scene));
+  PetscCall(SceneReadRun(r, root, &scene->run));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* ------------------------------------------------------------------------------------------------------------ */
+/* File and YAML                                                                                                */
+
+/* Rank 0 only, never raises: reads the whole file, or returns the errno of the failure. */
+static PetscErrorCode SceneReadFileSerial(const char path[], char **bytes, long long *len, long long *err)
+{
+  FILE  *fp;
+  size_t cap = 1 << 16, n = 0, got;
+
+  PetscFunctionBeginUser;
+  *bytes = NULL;
+  *len   = 0;
+  *err   = 0;
+  if (!(fp = fopen(path, "rb"))) {
+    *err = errno;
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
+  PetscCall(PetscMalloc1(cap, bytes));
+  while ((got = fread(*bytes + n, 1, cap - n, fp)) > 0) {
+    n += got;
+    if (n == cap) {
+      cap *= 2;
+      PetscCall(PetscRealloc(cap, bytes));
+    }
+  }
+  if (ferror(fp)) *err = errno ? errno : EIO;
+  fclose(fp);
+  *len = (long long)n;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Collective: every rank gets the file's bytes (NUL-terminated) from rank 0. */
+static PetscErrorCode SceneReadBytes(MPI_Comm comm, const char path[], char **bytes, size_t *len)
+{
+  PetscMPIInt rank;
+  long long   header[2] = {0, 0}; /* length, errno */
+  char       *buf       = NULL;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  if (rank == 0) PetscCall(SceneReadFileSerial(path, &buf, &header[0], &header[1]));
+  PetscCallMPI(MPI_Bcast(header, 2, MPI_LONG_LONG, 0, comm));
+  if (header[1]) PetscCall(PetscFree(buf));
+  PetscCheck(!header[1], comm, PETSC_ERR_FILE_OPEN, "scene %s: cannot read the file (%s): expected a readable YAML scene file", path, strerror((int)header[1]));
+  PetscCheck(header[0] < INT_MAX, comm, PETSC_ERR_FILE_READ, "scene %s: the file has %lld bytes: expected less than 2 GB", path, header[0]);
+  if (rank == 0)
+    PetscCall(PetscRealloc((size_t)header[0] + 1, &buf));
+  else
+    PetscCall(PetscMalloc1((size_t)header[0] + 1, &buf));
+  PetscCallMPI(MPI_Bcast(buf, (PetscMPIInt)header[0], MPI_CHAR, 0, comm));
+  buf[header[0]] = 0;
+  *bytes         = buf;
+  *len           = (size_t)header[0];
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Fails with libyaml's description of a syntax error. */
+static PetscErrorCode SceneFailSyntax(MPI_Comm comm, const char path[], yaml_parser_t *parser)
+{
+  char context[SCENE_TEXT_LEN] = "";
+
+  PetscFunctionBeginUser;
+  if (parser->context) PetscCall(PetscSNPrintf(context, sizeof(context), " (%s at line %d)", parser->context, (int)parser->context_mark.line + 1));
+  SETERRQ(comm, PETSC_ERR_USER_INPUT, "scene %s, line %d: YAML syntax error: %s%s: expected a well-formed YAML document", path, (int)parser->problem_mark.line + 1, parser->problem ? parser->problem : "unknown problem", context);
+}
+
+/* Parses the bytes (the same on every rank) and reads the document into scene. */
+static PetscErrorCode SceneParse(MPI_Comm comm, const char bytes[], size_t len, Scene scene)
+{
+  yaml_parser_t   parser;
+  yaml_document_t doc, extra;
+  SceneReader     reader = {comm, scene->path, &doc, ""};
+  PetscErrorCode  ierr;
+  PetscBool       more;
+
+  PetscFunctionBeginUser;
+  PetscCheck(yaml_parser_initialize(&parser), comm, PETSC_ERR_MEM, "libyaml could not create a parser");
+  yaml_parser_set_input_string(&parser, (const unsigned char *)bytes, len);
+  if (!yaml_parser_load(&parser, &doc)) {
+    ierr = SceneFailSyntax(comm, scene->path, &parser);
+    yaml_parser_delete(&parser);
+    PetscCall(ierr);
+  }
+  if (!yaml_parser_load(&parser, &extra)) {
+    ierr = SceneFailSyntax(comm, scene->path, &parser);
+    yaml_document_delete(&doc);
+    yaml_parser_delete(&parser);
+    PetscCall(ierr);
+  }
+  more = yaml_document_get_root_node(&extra) ? PETSC_TRUE : PETSC_FALSE;
+  yaml_document_delete(&extra);
+  /* Read, then free libyaml's memory whatever happened; the error (if any) is raised after. */
+  ierr = more ? PETSC_SUCCESS : SceneReadDocument(&reader, scene);
+  yaml_document_delete(&doc);
+  yaml_parser_delete(&parser);
+  PetscCheck(!more, comm, PETSC_ERR_USER_INPUT, "scene %s: the file holds more than one YAML document: expected exactly one", scene->path);
+  PetscCall(ierr);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* FNV-1a, 64 bits, continued from hash over n bytes. */
+static PetscErrorCode SceneHashBytes(uint64_t *hash, const unsigned char bytes[], size_t n)
+{
+  PetscFunctionBeginUser;
+  for (size_t i = 0; i < n; i++) *hash = (*hash ^ bytes[i]) * SCENE_FNV_PRIME;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Defaults that are not zero, and the name from the path: "input/hanging_sheet.yaml" -> "hanging_sheet". */
+static PetscErrorCode SceneSetDefaults(Scene scene, const char path[])
+{
+  const char *base = strrchr(path, '/');
+  char       *dot;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscStrncpy(scene->path, path, sizeof(scene->path)));
+  PetscCall(PetscStrncpy(scene->name, base ? base + 1 : path, sizeof(scene->name)));
+  dot = strrchr(scene->name, '.');
+  if (dot && dot != scene->name) *dot = 0;
+  scene->gravity[1] = -9.81;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode SceneCreateFromFile(MPI_Comm comm, const char path[], Scene *scene)
+{
+  Scene          s;
+  char          *bytes;
+  size_t         len;
+  uint64_t       hash = SCENE_FNV_OFFSET;
+  PetscErrorCode ierr;
+
+  PetscFunctionBeginUser;
+  *scene = NULL;
+  PetscCheck(strlen(path) < CLOTH_PATH_LEN, comm, PETSC_ERR_ARG_SIZ, "scene %s: the path is too long: expected less than %d characters", path, CLOTH_PATH_LEN);
+  PetscCall(SceneReadBytes(comm, path, &bytes, &len));
+  PetscCall(PetscNew(&s));
+  s->comm = comm;
+  PetscCall(SceneSetDefaults(s, path));
+  PetscCall(SceneHashBytes(&hash, (const unsigned char *)bytes, len));
+  s->file_fingerprint = s->fingerprint = (PetscInt64)hash;
+  ierr                                 = SceneParse(comm, bytes, len, s);
+  PetscCall(PetscFree(bytes));
+  if (ierr) PetscCall(SceneDestroy(&s));
+  PetscCall(ierr);
+  *scene = s;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode SceneSetGridSize(Scene scene, PetscInt n)
+{
+  ScenePiece   *piece;
+  uint64_t      hash = (uint64_t)scene->file_fingerprint;
+  unsigned char nbytes[8];
+
+  PetscFunctionBeginUser;
+  PetscCheck(scene->single_grid, scene->comm, PETSC_ERR_USER_INPUT, "scene %s: -grid %" PetscInt_FMT ": expected a scene of one rectangular piece, got %" PetscInt_FMT " pieces", scene->path, n, scene->npieces);
+  PetscCheck(n >= 2, scene->comm, PETSC_ERR_USER_INPUT, "scene %s: -grid %" PetscInt_FMT ": expected an integer >= 2", scene->path, n);
+  piece     = &scene->pieces[0];
+  piece->nu = piece->nv = n;
+  PetscCall(ScenePieceResolvePins(scene->comm, scene->path, piece));
+  for (int b = 0; b < 8; b++) nbytes[b] = (unsigned char)(((uint64_t)n >> (8 * b)) & 0xff); /* little-endian on every host */
+  if (n != piece->grid_given[0] || n != piece->grid_given[1]) PetscCall(SceneHashBytes(&hash, nbytes, sizeof(nbytes)));
+  scene->fingerprint = (PetscInt64)hash;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* ------------------------------------------------------------------------------------------------------------ */
+/* View and destroy                                                                                             */
+
+/* Appends ", <fmt...>" (without the comma when buf is empty) to a list being built in buf. */
+static PetscErrorCode SceneAppendItem(char buf[], size_t len, const char fmt[], ...) PETSC_ATTRIBUTE_FORMAT(3, 4);
+static PetscErrorCode SceneAppendItem(char buf[], size_t len, const char fmt[], ...)
+{
+  char    item[SCENE_TEXT_LEN];
+  va_list args;
+
+  PetscFunctionBeginUser;
+  va_start(args, fmt);
+  vsnprintf(item, sizeof(item), fmt, args);
+  va_end(args);
+  if (buf[0]) PetscCall(PetscStrlcat(buf, ", ", len));
+  PetscCall(PetscStrlcat(buf, item, len));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode SceneFabricView(const SceneFabric *f, PetscViewer viewer)
+{
+  char list[SCENE_TEXT_LEN] = "";
+
+  PetscFunctionBeginUser;
+  PetscCall(SceneAppendItem(list, sizeof(list), "density %g kg/m^2", (double)f->density));
+  PetscCall(SceneAppendItem(list, sizeof(list), "stretch %g/%g N/m (warp/weft)", (double)f->stretch_warp, (double)f->stretch_weft));
+  PetscCall(SceneAppendItem(list, sizeof(list), "shear %g N/m (%s)", (double)f->shear, ClothShearModels[f->shear_model]));
+  PetscCall(SceneAppendItem(list, sizeof(list), "bend %g/%g %s (warp/weft, %s)", (double)f->bend_warp, (double)f->bend_weft, f->bend_model == CLOTH_BEND_LINK ? "N/m" : "N m", ClothBendModels[f->bend_model]));
+  PetscCall(SceneAppendItem(list, sizeof(list), "damping %g 1/s", (double)f->damping));
+  if (f->repulsion > 0)
+    PetscCall(SceneAppendItem(list, sizeof(list), "repulsion below %g of the rest length (stiffness x %g)", (double)f->repulsion, (double)f->repulsion_stiffness));
+  else
+    PetscCall(SceneAppendItem(list, sizeof(list), "repulsion off"));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "fabric '%s': %s\n", f->name, list));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode ScenePieceView(Scene scene, const ScenePiece *p, PetscViewer viewer)
+{
+  char list[SCENE_TEXT_LEN] = "", frame[SCENE_TEXT_LEN] = "";
+
+  PetscFunctionBeginUser;
+  PetscCall(SceneAppendItem(list, sizeof(list), "fabric '%s'", scene->fabrics[p->fabric].name));
+  PetscCall(SceneAppendItem(list, sizeof(list), "grid %" PetscInt_FMT " x %" PetscInt_FMT " = %" PetscInt_FMT " particles", p->nu, p->nv, p->nu * p->nv));
+  PetscCall(SceneAppendItem(list, sizeof(list), "size %g x %g m", (double)p->size[0], (double)p->size[1]));
+  PetscCall(SceneAppendItem(list, sizeof(list), "mass %s", ClothMassDistributions[p->mass_distribution]));
+  PetscCall(SceneAppendItem(list, sizeof(list), "%" PetscInt_FMT " pin%s", p->npins, p->npins == 1 ? "" : "s"));
+  PetscCall(SceneAppendItem(frame, sizeof(frame), "origin (%g, %g, %g) m", (double)p->origin[0], (double)p->origin[1], (double)p->origin[2]));
+  PetscCall(SceneAppendItem(frame, sizeof(frame), "u_axis (%g, %g, %g)", (double)p->u_axis[0], (double)p->u_axis[1], (double)p->u_axis[2]));
+  PetscCall(SceneAppendItem(frame, sizeof(frame), "v_axis (%g, %g, %g)", (double)p->v_axis[0], (double)p->v_axis[1], (double)p->v_axis[2]));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "piece '%s': %s\n", p->name, list));
+  PetscCall(PetscViewerASCIIPushTab(viewer));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "%s\n", frame));
+  PetscCall(PetscViewerASCIIPopTab(viewer));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode SceneRunView(const SceneRunDefaults *run, PetscViewer viewer)
+{
+  char list[SCENE_TEXT_LEN] = "";
+
+  PetscFunctionBeginUser;
+  if (run->integrator[0]) PetscCall(SceneAppendItem(list, sizeof(list), "integrator %s", run->integrator));
+  if (run->dt > 0) PetscCall(SceneAppendItem(list, sizeof(list), "dt %g s", (double)run->dt));
+  if (run->t_final > 0) PetscCall(SceneAppendItem(list, sizeof(list), "t_final %g s", (double)run->t_final));
+  if (run->steps > 0) PetscCall(SceneAppendItem(list, sizeof(list), "steps %" PetscInt_FMT, run->steps));
+  if (run->output_every > 0) PetscCall(SceneAppendItem(list, sizeof(list), "output_every %" PetscInt_FMT, run->output_every));
+  if (run->checkpoint_every > 0) PetscCall(SceneAppendItem(list, sizeof(list), "checkpoint_every %" PetscInt_FMT, run->checkpoint_every));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "run defaults (options override them): %s\n", list[0] ? list : "none"));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode SceneView(Scene scene, PetscViewer viewer)
+{
+  PetscBool iascii;
+  PetscInt  particles               = 0;
+  char      gravity[SCENE_TEXT_LEN] = "";
+
+  PetscFunctionBeginUser;
+  if (!viewer) PetscCall(PetscViewerASCIIGetStdout(scene->comm, &viewer));
+  PetscCall(PetscObjectTypeCompare((PetscObject)viewer, PETSCVIEWERASCII, &iascii));
+  if (!iascii) PetscFunctionReturn(PETSC_SUCCESS);
+  for (PetscInt p = 0; p < scene->npieces; p++) particles += scene->pieces[p].nu * scene->pieces[p].nv;
+  PetscCall(PetscViewerASCIIPrintf(viewer, "Scene '%s' from %s (fingerprint %016" PRIx64 "): %" PetscInt_FMT " piece%s, %" PetscInt_FMT " particles\n", scene->name, scene->path, (uint64_t)scene->fingerprint, scene->npieces,
+                                   scene->npieces == 1 ? "" : "s", particles));
+  PetscCall(PetscViewerASCIIPushTab(viewer));
+  PetscCall(SceneAppendItem(gravity, sizeof(gravity), "gravity (%g, %g, %g) m/s^2", (double)scene->gravity[0], (double)scene->gravity[1], (double)scene->gravity[2]));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "%s\n", gravity));
+  for (PetscInt f = 0; f < scene->nfabrics; f++) PetscCall(SceneFabricView(&scene->fabrics[f], viewer));
+  for (PetscInt p = 0; p < scene->npieces; p++) PetscCall(ScenePieceView(scene, &scene->pieces[p], viewer));
+  PetscCall(SceneRunView(&scene->run, viewer));
+  PetscCall(PetscViewerASCIIPopTab(viewer));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode SceneDestroy(Scene *scene)
+{
+  PetscFunctionBeginUser;
+  if (!scene || !*scene) PetscFunctionReturn(PETSC_SUCCESS);
+  for (PetscInt p = 0; p < (*scene)->npieces && (*scene)->pieces; p++) {
+    PetscCall(PetscFree((*scene)->pieces[p].pins));
+    PetscCall(PetscFree((*scene)->pieces[p].pins_given));
+  }
+  PetscCall(PetscFree((*scene)->pieces));
+  PetscCall(PetscFree((*scene)->fabrics));
+  PetscCall(PetscFree(*scene));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
