@@ -152,8 +152,11 @@ PetscErrorCode ClothIntegratorSetFromOptions(ClothIntegrator integ)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* The implicit solver: CG (the system is symmetric positive definite) with a block Jacobi
-   preconditioner on the 3x3 particle blocks; every -ksp_ and -pc_ option overrides. */
+/* The implicit solver: CG (the system is symmetric positive definite) preconditioned by block
+   Jacobi over the ranks with incomplete Cholesky inside each (on the SBAIJ matrix, ICC(0) is the
+   sub-solver PETSc picks), to PETSc's default relative tolerance 1e-5 (as the Taichi peer). On the
+   65 x 65 hanging sheet this took 44 iterations per step against 146 for point-block Jacobi and
+   was the fastest of those tried (README, "Solver choice"). Every -ksp_ and -pc_ option overrides. */
 static PetscErrorCode ClothIntegratorSetUpImplicit(ClothIntegrator integ)
 {
   PC pc;
@@ -165,8 +168,8 @@ static PetscErrorCode ClothIntegratorSetUpImplicit(ClothIntegrator integ)
   PetscCall(KSPCreate(PETSC_COMM_WORLD, &integ->ksp));
   PetscCall(KSPSetType(integ->ksp, KSPCG));
   PetscCall(KSPGetPC(integ->ksp, &pc));
-  PetscCall(PCSetType(pc, PCPBJACOBI));
-  PetscCall(KSPSetTolerances(integ->ksp, 1e-8, 1e-14, PETSC_DEFAULT, 1000));
+  PetscCall(PCSetType(pc, PCBJACOBI));
+  PetscCall(KSPSetTolerances(integ->ksp, PETSC_DEFAULT, 1e-50, PETSC_DEFAULT, 2000));
   PetscCall(KSPSetInitialGuessNonzero(integ->ksp, PETSC_TRUE)); /* dv of the last step: a good guess */
   PetscCall(KSPSetFromOptions(integ->ksp));
   PetscCall(VecZeroEntries(integ->dv));
