@@ -45,7 +45,7 @@ PetscErrorCode ClothAssembleImplicitSystem(Cloth cloth, PetscReal h, Vec positio
 /* With exact = true the implicit system uses the exact stiffness (possibly indefinite) instead of its
    positive semidefinite part; for Jacobian tests against finite differences. */
 PetscErrorCode ClothSetExactStiffness(Cloth cloth, PetscBool exact);
-/* A symmetric block (bs 3, SBAIJ unless -implicit_mat_type says otherwise) matrix with exactly the
+/* A symmetric block (bs 3, BAIJ; -implicit_mat_type sbaij stores only the upper triangle) matrix with exactly the
    nonzero pattern of the interactions, preallocated. */
 PetscErrorCode ClothCreateMatrix(Cloth cloth, Mat *A);
 /* Zeroes the constrained components of a vector of per-particle 3-vectors (v <- S v). */

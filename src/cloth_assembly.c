@@ -295,7 +295,7 @@ PetscErrorCode ClothCreateMatrix(Cloth cloth, Mat *A)
   PetscCall(MatCreate(cloth->comm, A));
   PetscCall(MatSetSizes(*A, 3 * cloth->nlocal, 3 * cloth->nlocal, 3 * cloth->nglobal, 3 * cloth->nglobal));
   PetscCall(MatSetBlockSize(*A, 3));
-  PetscCall(MatSetType(*A, MATSBAIJ)); /* symmetric: only the upper triangle is stored */
+  PetscCall(MatSetType(*A, MATBAIJ));
   PetscCall(MatSetOptionsPrefix(*A, "implicit_"));
   PetscCall(MatSetFromOptions(*A));
   PetscCall(PetscMalloc4(cloth->nlocal, &dnnz, cloth->nlocal, &onnz, cloth->nlocal, &dnnzu, cloth->nlocal, &onnzu));
