@@ -1,12 +1,14 @@
-/* Checkpoints: see checkpoint.h.
+/* Checkpoints: see checkpoint.h and docs/checkpoint.md.
 
    File layout, group /state:
-     datasets  position, velocity        (N, 3) float64, natural particle order
-     attributes format_version (int64), step (int64), time, dt (float64), integrator, scene_name (string),
-                scene_fingerprint, nparticles, nranks (int64, the ranks that wrote it),
-                code_version, git_revision (string),
-                checksum (uint64, see CheckpointChecksum), checksum_method (string),
-                complete (int64 = 1, written last: the end marker). */
+     datasets   position, velocity, and the further fields of the writer (implicit_dv), each (N, bs)
+                float64 in natural particle order, each with the attribute checksum (uint64, see
+                VecChecksum)
+     attributes format_version (int64), step (int64), time, dt (float64), dt_start_step (int64),
+                dt_start_time (float64), integrator, scene_name (string), scene_fingerprint,
+                nparticles, nranks (int64, the ranks that wrote it), code_version, git_revision
+                (string), checksum_method (string), info_checksum (uint64, see
+                CheckpointInfoChecksum), complete (int64 = 1, written last: the end marker). */
 #define _POSIX_C_SOURCE 200809L
 #include <dirent.h>
 #include <errno.h>
@@ -24,11 +26,11 @@
 #define CLOTHSIM_GIT_REVISION "unknown"
 #endif
 
-#define CHECKPOINT_FORMAT_VERSION 1
-#define CHECKPOINT_CHECKSUM_METHOD "xor over entries k of splitmix64(bits(value_k) ^ splitmix64(k)), k = 3*particle+component, velocity after position"
+#define CHECKPOINT_FORMAT_VERSION 2
+#define CHECKPOINT_CHECKSUM_METHOD "per dataset: xor over entries k of splitmix64(bits(value_k) ^ splitmix64(k)), k = bs*particle+component"
 
 /* Attributes every checkpoint of this format carries (besides the end marker). */
-static const char *const CheckpointAttributes[] = {"format_version", "step", "time", "dt", "integrator", "scene_name", "scene_fingerprint", "nparticles", "checksum"};
+static const char *const CheckpointAttributes[] = {"format_version", "step", "time", "dt", "dt_start_step", "dt_start_time", "integrator", "scene_name", "scene_fingerprint", "nparticles", "info_checksum"};
 
 /* Why a checkpoint is refused; code 0 when it is accepted. */
 typedef struct {
@@ -44,11 +46,38 @@ static uint64_t SplitMix64(uint64_t x)
   return x ^ (x >> 31);
 }
 
-/* XORs into *sum the hash of every local entry of v, entry k (global index) keyed by offset + k. */
-static PetscErrorCode VecChecksumLocal(Vec v, PetscInt64 offset, uint64_t *sum)
+/* Folds n bytes into the running hash h, 8 at a time (the tail zero-padded). */
+static uint64_t HashBytes(uint64_t h, const void *bytes, size_t n)
+{
+  for (size_t i = 0; i < n; i += 8) {
+    uint64_t word = 0;
+
+    memcpy(&word, (const char *)bytes + i, PetscMin(8, n - i));
+    h = SplitMix64(h ^ word);
+  }
+  return h;
+}
+
+/* A checksum of the attributes that a restart takes over (step, time, dt, its start, integrator, scene
+   fingerprint and particle count), so that a damaged attribute is refused like damaged data. */
+static uint64_t CheckpointInfoChecksum(const ClothCheckpointInfo *info, PetscInt64 nparticles)
+{
+  const double  reals[3] = {(double)info->time, (double)info->dt, (double)info->dt_start_time};
+  const int64_t ints[4]  = {(int64_t)info->step, (int64_t)info->dt_start_step, (int64_t)info->scene_fingerprint, (int64_t)nparticles};
+  uint64_t      h        = 0;
+
+  h = HashBytes(h, reals, sizeof(reals));
+  h = HashBytes(h, ints, sizeof(ints));
+  return HashBytes(h, info->integrator, strlen(info->integrator));
+}
+
+/* A checksum of the exact bits of a Vec that is the same for any partition of it: the per-entry
+   hashes (keyed by global index) are combined by XOR, which is exact and order-free. Collective. */
+static PetscErrorCode VecChecksum(Vec v, uint64_t *checksum)
 {
   const PetscScalar *array;
   PetscInt           lo, hi;
+  uint64_t           local = 0;
 
   PetscFunctionBeginUser;
   PetscCall(VecGetOwnershipRange(v, &lo, &hi));
@@ -57,37 +86,45 @@ static PetscErrorCode VecChecksumLocal(Vec v, PetscInt64 offset, uint64_t *sum)
     uint64_t bits;
 
     memcpy(&bits, &array[i], sizeof(bits));
-    *sum ^= SplitMix64(bits ^ SplitMix64((uint64_t)(offset + lo + i)));
+    local ^= SplitMix64(bits ^ SplitMix64((uint64_t)(lo + i)));
   }
   PetscCall(VecRestoreArrayRead(v, &array));
+  PetscCallMPI(MPI_Allreduce(&local, checksum, 1, MPI_UINT64_T, MPI_BXOR, PetscObjectComm((PetscObject)v)));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* A checksum of the exact bits of the state that is the same for any partition of the Vecs: the
-   per-entry hashes (keyed by global index) are combined by XOR, which is exact and order-free. */
-static PetscErrorCode CheckpointChecksum(MPI_Comm comm, Vec position, Vec velocity, uint64_t *checksum)
+/* The particle count of one field (its rows: global size over block size). */
+static PetscErrorCode CheckpointFieldRows(const ClothCheckpointField *field, PetscInt64 *rows)
 {
-  uint64_t local = 0;
-  PetscInt n;
+  PetscInt n, bs;
 
   PetscFunctionBeginUser;
-  PetscCall(VecGetSize(position, &n));
-  PetscCall(VecChecksumLocal(position, 0, &local));
-  PetscCall(VecChecksumLocal(velocity, n, &local));
-  PetscCallMPI(MPI_Allreduce(&local, checksum, 1, MPI_UINT64_T, MPI_BXOR, comm));
+  PetscCall(VecGetSize(field->vec, &n));
+  PetscCall(VecGetBlockSize(field->vec, &bs));
+  *rows = n / bs;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* The particle count of a state (position, velocity), checking that both hold whole particles. */
-static PetscErrorCode CheckpointParticleCount(Vec position, Vec velocity, PetscInt64 *nparticles)
+/* The particle count of a set of fields, checking that they all have it and that position and
+   velocity are among them. */
+static PetscErrorCode CheckpointParticleCount(MPI_Comm comm, PetscInt nfields, const ClothCheckpointField fields[], PetscInt64 *nparticles)
 {
-  PetscInt np, nv;
+  PetscBool has_position = PETSC_FALSE, has_velocity = PETSC_FALSE, same;
 
   PetscFunctionBeginUser;
-  PetscCall(VecGetSize(position, &np));
-  PetscCall(VecGetSize(velocity, &nv));
-  PetscCheck(np == nv && np % 3 == 0, PetscObjectComm((PetscObject)position), PETSC_ERR_ARG_SIZ, "Position (%" PetscInt_FMT ") and velocity (%" PetscInt_FMT ") must have the same size, 3 per particle", np, nv);
-  *nparticles = np / 3;
+  PetscCheck(nfields > 0, comm, PETSC_ERR_ARG_SIZ, "A checkpoint needs at least the fields position and velocity");
+  PetscCall(CheckpointFieldRows(&fields[0], nparticles));
+  for (PetscInt f = 0; f < nfields; f++) {
+    PetscInt64 rows;
+
+    PetscCall(CheckpointFieldRows(&fields[f], &rows));
+    PetscCheck(rows == *nparticles, comm, PETSC_ERR_ARG_SIZ, "Checkpoint field %s has %" PetscInt64_FMT " rows, field %s has %" PetscInt64_FMT, fields[f].name, rows, fields[0].name, *nparticles);
+    PetscCall(PetscStrcmp(fields[f].name, "position", &same));
+    has_position = (PetscBool)(has_position || same);
+    PetscCall(PetscStrcmp(fields[f].name, "velocity", &same));
+    has_velocity = (PetscBool)(has_velocity || same);
+  }
+  PetscCheck(has_position && has_velocity, comm, PETSC_ERR_ARG_WRONG, "A checkpoint needs the fields position and velocity");
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -101,6 +138,8 @@ static PetscErrorCode CheckpointWriteAttributes(MPI_Comm comm, hid_t state, cons
   PetscCall(ClothH5AttributeWriteInt64(state, "step", info->step));
   PetscCall(ClothH5AttributeWriteReal(state, "time", info->time));
   PetscCall(ClothH5AttributeWriteReal(state, "dt", info->dt));
+  PetscCall(ClothH5AttributeWriteInt64(state, "dt_start_step", info->dt_start_step));
+  PetscCall(ClothH5AttributeWriteReal(state, "dt_start_time", info->dt_start_time));
   PetscCall(ClothH5AttributeWriteString(state, "integrator", info->integrator));
   PetscCall(ClothH5AttributeWriteString(state, "scene_name", info->scene_name));
   PetscCall(ClothH5AttributeWriteInt64(state, "scene_fingerprint", info->scene_fingerprint));
@@ -108,26 +147,40 @@ static PetscErrorCode CheckpointWriteAttributes(MPI_Comm comm, hid_t state, cons
   PetscCall(ClothH5AttributeWriteInt64(state, "nranks", size));
   PetscCall(ClothH5AttributeWriteString(state, "code_version", CLOTHSIM_VERSION));
   PetscCall(ClothH5AttributeWriteString(state, "git_revision", CLOTHSIM_GIT_REVISION));
+  PetscCall(ClothH5AttributeWriteString(state, "checksum_method", CHECKPOINT_CHECKSUM_METHOD));
+  PetscCall(ClothH5AttributeWriteUInt64(state, "info_checksum", CheckpointInfoChecksum(info, nparticles)));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Writes one field as /state/<name> with its checksum attribute. */
+static PetscErrorCode CheckpointWriteField(hid_t state, const ClothCheckpointField *field)
+{
+  PetscInt bs;
+  uint64_t checksum;
+  hid_t    dset;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecGetBlockSize(field->vec, &bs));
+  PetscCall(VecChecksum(field->vec, &checksum));
+  PetscCall(ClothH5WriteVec(state, field->name, field->vec, bs));
+  ClothCallHDF5(dset = H5Dopen2(state, field->name, H5P_DEFAULT));
+  PetscCall(ClothH5AttributeWriteUInt64(dset, "checksum", checksum));
+  ClothCallHDF5(H5Dclose(dset));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 /* Writes the whole checkpoint into an open file; the end marker goes last, after a flush. */
-static PetscErrorCode CheckpointWriteFile(MPI_Comm comm, hid_t file, const ClothCheckpointInfo *info, Vec position, Vec velocity)
+static PetscErrorCode CheckpointWriteFile(MPI_Comm comm, hid_t file, const ClothCheckpointInfo *info, PetscInt nfields, const ClothCheckpointField fields[])
 {
   hid_t      state;
   PetscInt64 nparticles;
-  uint64_t   checksum;
 
   PetscFunctionBeginUser;
-  PetscCall(CheckpointParticleCount(position, velocity, &nparticles));
+  PetscCall(CheckpointParticleCount(comm, nfields, fields, &nparticles));
   PetscCheck(info->nparticles == 0 || info->nparticles == nparticles, comm, PETSC_ERR_ARG_SIZ, "Checkpoint info says %" PetscInt64_FMT " particles, the state holds %" PetscInt64_FMT, info->nparticles, nparticles);
-  PetscCall(CheckpointChecksum(comm, position, velocity, &checksum));
   ClothCallHDF5(state = H5Gcreate2(file, "/state", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
   PetscCall(CheckpointWriteAttributes(comm, state, info, nparticles));
-  PetscCall(ClothH5WriteVec(state, "position", position, 3));
-  PetscCall(ClothH5WriteVec(state, "velocity", velocity, 3));
-  PetscCall(ClothH5AttributeWriteUInt64(state, "checksum", checksum));
-  PetscCall(ClothH5AttributeWriteString(state, "checksum_method", CHECKPOINT_CHECKSUM_METHOD));
+  for (PetscInt f = 0; f < nfields; f++) PetscCall(CheckpointWriteField(state, &fields[f]));
   ClothCallHDF5(H5Fflush(file, H5F_SCOPE_GLOBAL));
   PetscCall(ClothH5AttributeWriteInt64(state, "complete", 1));
   ClothCallHDF5(H5Gclose(state));
@@ -204,7 +257,7 @@ static PetscErrorCode CheckpointRemoveOld(MPI_Comm comm, const char dir[], Petsc
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode ClothCheckpointWrite(MPI_Comm comm, const char dir[], const ClothCheckpointInfo *info, Vec position, Vec velocity, PetscInt keep, char path_out[], size_t path_len)
+PetscErrorCode ClothCheckpointWrite(MPI_Comm comm, const char dir[], const ClothCheckpointInfo *info, PetscInt nfields, const ClothCheckpointField fields[], PetscInt keep, char path_out[], size_t path_len)
 {
   char  path[CLOTH_PATH_LEN], tmp[CLOTH_PATH_LEN];
   hid_t file;
@@ -215,7 +268,7 @@ PetscErrorCode ClothCheckpointWrite(MPI_Comm comm, const char dir[], const Cloth
   PetscCall(PetscSNPrintf(tmp, sizeof(tmp), "%s/.checkpoint_%06" PetscInt64_FMT ".h5.tmp", dir, info->step));
   PetscCall(ClothFileMakeDirectory(comm, dir));
   PetscCall(ClothH5FileCreate(comm, tmp, &file));
-  PetscCall(CheckpointWriteFile(comm, file, info, position, velocity));
+  PetscCall(CheckpointWriteFile(comm, file, info, nfields, fields));
   PetscCall(ClothH5FileClose(&file));
   PetscCall(ClothFileRename(comm, tmp, path));
   if (keep > 0) PetscCall(CheckpointRemoveOld(comm, dir, info->step, keep));
@@ -231,36 +284,43 @@ static PetscErrorCode CheckpointRefuse(CheckpointRefusal *refusal, PetscErrorCod
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* Checks the end marker and the attributes' presence, then reads them into info. */
+/* Checks the end marker and the attributes' presence, then reads them into info and checks them
+   against their checksum. */
 static PetscErrorCode CheckpointReadInfo(hid_t state, ClothCheckpointInfo *info, CheckpointRefusal *refusal)
 {
   PetscBool  exists = PETSC_FALSE;
   PetscInt64 format;
+  uint64_t   stored;
   char       reason[256];
 
   PetscFunctionBeginUser;
   PetscCall(ClothH5AttributeExists(state, "complete", &exists));
   if (!exists) PetscCall(CheckpointRefuse(refusal, PETSC_ERR_FILE_UNEXPECTED, "has no end marker (attribute /state/complete): it was not completely written"));
-  for (size_t i = 0; exists && i < PETSC_STATIC_ARRAY_LENGTH(CheckpointAttributes); i++) {
+  if (exists) PetscCall(ClothH5AttributeExists(state, "format_version", &exists));
+  if (exists) { /* first, so that a checkpoint of another format is named as such */
+    PetscCall(ClothH5AttributeReadInt64(state, "format_version", &format));
+    PetscCall(PetscSNPrintf(reason, sizeof(reason), "is in checkpoint format %" PetscInt64_FMT "; this clothsim reads format %d", format, CHECKPOINT_FORMAT_VERSION));
+    if (format != CHECKPOINT_FORMAT_VERSION) PetscCall(CheckpointRefuse(refusal, PETSC_ERR_FILE_UNEXPECTED, reason));
+  }
+  for (size_t i = 0; !refusal->code && i < PETSC_STATIC_ARRAY_LENGTH(CheckpointAttributes); i++) {
     PetscCall(ClothH5AttributeExists(state, CheckpointAttributes[i], &exists));
     if (exists) continue;
     PetscCall(PetscSNPrintf(reason, sizeof(reason), "lacks the attribute /state/%s: it is not a clothsim checkpoint of format %d", CheckpointAttributes[i], CHECKPOINT_FORMAT_VERSION));
     PetscCall(CheckpointRefuse(refusal, PETSC_ERR_FILE_UNEXPECTED, reason));
   }
   if (refusal->code) PetscFunctionReturn(PETSC_SUCCESS);
-  PetscCall(ClothH5AttributeReadInt64(state, "format_version", &format));
-  if (format != CHECKPOINT_FORMAT_VERSION) {
-    PetscCall(PetscSNPrintf(reason, sizeof(reason), "is in checkpoint format %" PetscInt64_FMT "; this clothsim reads format %d", format, CHECKPOINT_FORMAT_VERSION));
-    PetscCall(CheckpointRefuse(refusal, PETSC_ERR_FILE_UNEXPECTED, reason));
-    PetscFunctionReturn(PETSC_SUCCESS);
-  }
   PetscCall(ClothH5AttributeReadInt64(state, "step", &info->step));
   PetscCall(ClothH5AttributeReadReal(state, "time", &info->time));
   PetscCall(ClothH5AttributeReadReal(state, "dt", &info->dt));
+  PetscCall(ClothH5AttributeReadInt64(state, "dt_start_step", &info->dt_start_step));
+  PetscCall(ClothH5AttributeReadReal(state, "dt_start_time", &info->dt_start_time));
   PetscCall(ClothH5AttributeReadString(state, "integrator", info->integrator, sizeof(info->integrator)));
   PetscCall(ClothH5AttributeReadString(state, "scene_name", info->scene_name, sizeof(info->scene_name)));
   PetscCall(ClothH5AttributeReadInt64(state, "scene_fingerprint", &info->scene_fingerprint));
   PetscCall(ClothH5AttributeReadInt64(state, "nparticles", &info->nparticles));
+  PetscCall(ClothH5AttributeReadUInt64(state, "info_checksum", &stored));
+  if (stored != CheckpointInfoChecksum(info, info->nparticles))
+    PetscCall(CheckpointRefuse(refusal, PETSC_ERR_FILE_READ, "is corrupt: its attributes step, time, dt, dt_start_step, dt_start_time, integrator, scene_fingerprint and nparticles do not match their checksum info_checksum"));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -281,32 +341,43 @@ static PetscErrorCode CheckpointCheckScene(const ClothCheckpointInfo *info, cons
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* Reads the datasets and compares their checksum with the stored one. */
-static PetscErrorCode CheckpointReadState(MPI_Comm comm, hid_t state, Vec position, Vec velocity, CheckpointRefusal *refusal)
+/* Reads one field when the file holds it (refusing a missing required one) and compares its checksum
+   with the stored one. */
+static PetscErrorCode CheckpointReadField(hid_t state, ClothCheckpointField *field, CheckpointRefusal *refusal)
 {
+  PetscInt bs;
   uint64_t stored, computed;
+  hid_t    dset;
   char     reason[256];
 
   PetscFunctionBeginUser;
-  PetscCall(ClothH5ReadVec(state, "position", position, 3));
-  PetscCall(ClothH5ReadVec(state, "velocity", velocity, 3));
-  PetscCall(ClothH5AttributeReadUInt64(state, "checksum", &stored));
-  PetscCall(CheckpointChecksum(comm, position, velocity, &computed));
-  PetscCall(PetscSNPrintf(reason, sizeof(reason), "is corrupt: the checksum of its data is %016llx, it was written with %016llx", (unsigned long long)computed, (unsigned long long)stored));
+  PetscCall(ClothH5LinkExists(state, field->name, &field->found));
+  if (!field->found) {
+    PetscCall(PetscSNPrintf(reason, sizeof(reason), "lacks the dataset /state/%s", field->name));
+    if (field->required) PetscCall(CheckpointRefuse(refusal, PETSC_ERR_FILE_UNEXPECTED, reason));
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
+  PetscCall(VecGetBlockSize(field->vec, &bs));
+  PetscCall(ClothH5ReadVec(state, field->name, field->vec, bs));
+  ClothCallHDF5(dset = H5Dopen2(state, field->name, H5P_DEFAULT));
+  PetscCall(ClothH5AttributeReadUInt64(dset, "checksum", &stored));
+  ClothCallHDF5(H5Dclose(dset));
+  PetscCall(VecChecksum(field->vec, &computed));
+  PetscCall(PetscSNPrintf(reason, sizeof(reason), "is corrupt: the checksum of /state/%s is %016llx, it was written with %016llx", field->name, (unsigned long long)computed, (unsigned long long)stored));
   if (computed != stored) PetscCall(CheckpointRefuse(refusal, PETSC_ERR_FILE_READ, reason));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 /* Reads and checks everything in an open file; the first problem found ends up in refusal. Every
    check is made on data that all ranks hold alike, so all ranks reach the same verdict. */
-static PetscErrorCode CheckpointReadFile(MPI_Comm comm, hid_t file, const ClothCheckpointInfo *expect, ClothCheckpointInfo *info, Vec position, Vec velocity, CheckpointRefusal *refusal)
+static PetscErrorCode CheckpointReadFile(MPI_Comm comm, hid_t file, const ClothCheckpointInfo *expect, ClothCheckpointInfo *info, PetscInt nfields, ClothCheckpointField fields[], CheckpointRefusal *refusal)
 {
   PetscBool  exists = PETSC_FALSE;
   hid_t      state;
   PetscInt64 nparticles;
 
   PetscFunctionBeginUser;
-  PetscCall(CheckpointParticleCount(position, velocity, &nparticles));
+  PetscCall(CheckpointParticleCount(comm, nfields, fields, &nparticles));
   PetscCall(ClothH5LinkExists(file, "state", &exists));
   if (!exists) {
     PetscCall(CheckpointRefuse(refusal, PETSC_ERR_FILE_UNEXPECTED, "has no group /state: it is not a clothsim checkpoint"));
@@ -315,12 +386,59 @@ static PetscErrorCode CheckpointReadFile(MPI_Comm comm, hid_t file, const ClothC
   ClothCallHDF5(state = H5Gopen2(file, "state", H5P_DEFAULT));
   PetscCall(CheckpointReadInfo(state, info, refusal));
   if (!refusal->code) PetscCall(CheckpointCheckScene(info, expect, nparticles, refusal));
-  if (!refusal->code) PetscCall(CheckpointReadState(comm, state, position, velocity, refusal));
+  for (PetscInt f = 0; f < nfields && !refusal->code; f++) PetscCall(CheckpointReadField(state, &fields[f], refusal));
   ClothCallHDF5(H5Gclose(state));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode ClothCheckpointRead(MPI_Comm comm, const char path[], const ClothCheckpointInfo *expect, ClothCheckpointInfo *info, Vec position, Vec velocity)
+/* After a read that failed half-way: closes what it left open in the file (a group, a dataset, an
+   attribute), since parallel HDF5 closes a file only when nothing in it is open, then the file. HDF5's
+   error printing is off, and a failure here changes nothing: the file is being refused anyway. */
+static PetscErrorCode CheckpointCloseAfterFailure(hid_t *file)
+{
+  const unsigned types = H5F_OBJ_DATASET | H5F_OBJ_GROUP | H5F_OBJ_ATTR | H5F_OBJ_LOCAL;
+  ssize_t        n     = H5Fget_obj_count(*file, types);
+  hid_t         *ids;
+
+  PetscFunctionBeginUser;
+  if (n > 0) {
+    PetscCall(PetscMalloc1(n, &ids));
+    n = H5Fget_obj_ids(*file, types, (size_t)n, ids);
+    for (ssize_t i = 0; i < n; i++) (void)(H5Iget_type(ids[i]) == H5I_ATTR ? H5Aclose(ids[i]) : H5Oclose(ids[i]));
+    PetscCall(PetscFree(ids));
+  }
+  (void)H5Fclose(*file);
+  *file = -1;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Reads an opened file with errors returned, not raised: an HDF5 failure inside a damaged file (its
+   metadata read collectively, so every rank fails alike) becomes a refusal that names the file, and
+   the file is closed. */
+static PetscErrorCode CheckpointReadFileGuarded(MPI_Comm comm, hid_t *file, const ClothCheckpointInfo *expect, ClothCheckpointInfo *info, PetscInt nfields, ClothCheckpointField fields[], CheckpointRefusal *refusal)
+{
+  PetscErrorCode ierr;
+  H5E_auto2_t    print_errors;
+  void          *print_errors_data;
+  const char    *text;
+  char          *specific, reason[sizeof(refusal->reason)];
+
+  PetscFunctionBeginUser;
+  ClothCallHDF5(H5Eget_auto2(H5E_DEFAULT, &print_errors, &print_errors_data));
+  ClothCallHDF5(H5Eset_auto2(H5E_DEFAULT, NULL, NULL));
+  PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));
+  ierr = CheckpointReadFile(comm, *file, expect, info, nfields, fields, refusal);
+  PetscCall(PetscPopErrorHandler());
+  if (ierr) PetscCall(CheckpointCloseAfterFailure(file));
+  ClothCallHDF5(H5Eset_auto2(H5E_DEFAULT, print_errors, print_errors_data));
+  if (!ierr) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(PetscErrorMessage(ierr, &text, &specific));
+  PetscCall(PetscSNPrintf(reason, sizeof(reason), "is corrupt: it cannot be read (%s)", specific ? specific : text));
+  PetscCall(CheckpointRefuse(refusal, PETSC_ERR_FILE_READ, reason));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothCheckpointRead(MPI_Comm comm, const char path[], const ClothCheckpointInfo *expect, ClothCheckpointInfo *info, PetscInt nfields, ClothCheckpointField fields[])
 {
   PetscBool           exists = PETSC_FALSE, opened = PETSC_FALSE;
   hid_t               file;
@@ -333,7 +451,7 @@ PetscErrorCode ClothCheckpointRead(MPI_Comm comm, const char path[], const Cloth
   PetscCheck(exists, comm, PETSC_ERR_FILE_OPEN, "Checkpoint %s does not exist", path);
   PetscCall(ClothH5FileOpen(comm, path, H5F_ACC_RDONLY, &file, &opened));
   PetscCheck(opened, comm, PETSC_ERR_FILE_READ, "Checkpoint %s cannot be opened as an HDF5 file: it is truncated or not a checkpoint", path);
-  PetscCall(CheckpointReadFile(comm, file, expect, &found, position, velocity, &refusal));
+  PetscCall(CheckpointReadFileGuarded(comm, &file, expect, &found, nfields, fields, &refusal));
   PetscCall(ClothH5FileClose(&file));
   PetscCheck(!refusal.code, comm, refusal.code, "Checkpoint %s %s", path, refusal.reason);
   if (info) *info = found;

@@ -1,7 +1,9 @@
 /* Checkpoints: full state in one HDF5 file, written collectively, renamed into place when complete.
 
-   Layout (DESIGN.md): /state/position and /state/velocity, (N, 3) float64 in natural (global
-   particle) order; attributes on /state: step (int64), time (float64), plus what a restart needs. */
+   Layout (DESIGN.md, docs/checkpoint.md): /state/position and /state/velocity, (N, 3) float64 in
+   natural (global particle) order, plus any further per-particle field a restart needs (the implicit
+   integrator's last velocity change, /state/implicit_dv); attributes on /state: step (int64), time
+   (float64), and the rest of ClothCheckpointInfo. */
 #pragma once
 #include <petscvec.h>
 #include "util.h"
@@ -9,19 +11,32 @@
 typedef struct {
   PetscInt64 step;                       /* steps taken */
   PetscReal  time;                       /* simulated time, s */
-  PetscReal  dt;                         /* the step in use when written (after any reductions), s */
+  PetscReal  dt;                         /* the nominal step in use when written, s (step halving is per step and leaves it unchanged) */
+  PetscInt64 dt_start_step;              /* step and time at which dt came into use: time = dt_start_time + dt (step - dt_start_step), */
+  PetscReal  dt_start_time;              /* so a restarted run computes exactly the times of an uninterrupted one */
   char       integrator[CLOTH_NAME_LEN]; /* name of the integrator */
   PetscInt64 scene_fingerprint;          /* Scene.fingerprint */
   char       scene_name[CLOTH_NAME_LEN];
   PetscInt64 nparticles;
 } ClothCheckpointInfo;
 
+/* One per-particle dataset of a checkpoint: /state/<name>, shape (N, bs) float64 in natural order,
+   bs the block size of vec (a natural-order Vec: PETSc's default contiguous layout). */
+typedef struct {
+  const char *name;
+  Vec         vec;
+  PetscBool   required; /* read: refuse a file without this dataset; otherwise vec is left untouched */
+  PetscBool   found;    /* read: set to whether the file holds the dataset */
+} ClothCheckpointField;
+
 /* Writes DIR/checkpoint_NNNNNN.h5 (NNNNNN = info->step, six digits) through a temporary name, then
-   renames it; keeps only the newest `keep` checkpoints in DIR when keep > 0. Returns the final path
-   in path_out (may be NULL). Collective. */
-PetscErrorCode ClothCheckpointWrite(MPI_Comm comm, const char dir[], const ClothCheckpointInfo *info, Vec position, Vec velocity, PetscInt keep, char path_out[], size_t path_len);
-/* Reads a checkpoint into position/velocity (natural order, already created with the right size).
-   Refuses, with one clear message naming the file, a file that is missing, truncated or corrupt, has
-   no end marker, holds another particle count, or whose fingerprint differs from
-   expect->scene_fingerprint (when expect is not NULL). Collective. */
-PetscErrorCode ClothCheckpointRead(MPI_Comm comm, const char path[], const ClothCheckpointInfo *expect, ClothCheckpointInfo *info, Vec position, Vec velocity);
+   renames it; keeps only the newest `keep` checkpoints in DIR when keep > 0. fields must include
+   "position" and "velocity"; each dataset carries a checksum of its bits. Returns the final path in
+   path_out (may be NULL). Collective. */
+PetscErrorCode ClothCheckpointWrite(MPI_Comm comm, const char dir[], const ClothCheckpointInfo *info, PetscInt nfields, const ClothCheckpointField fields[], PetscInt keep, char path_out[], size_t path_len);
+/* Reads a checkpoint into the fields' Vecs (natural order, already created with the right size).
+   Refuses, with one clear message naming the file, a file that is missing, truncated or corrupt
+   (unreadable, or a dataset whose checksum differs), has no end marker, lacks a required dataset,
+   holds another particle count, or whose fingerprint differs from expect->scene_fingerprint (when
+   expect is not NULL). Collective. */
+PetscErrorCode ClothCheckpointRead(MPI_Comm comm, const char path[], const ClothCheckpointInfo *expect, ClothCheckpointInfo *info, PetscInt nfields, ClothCheckpointField fields[]);

@@ -21,8 +21,16 @@ PetscErrorCode ClothSetFromOptions(Cloth cloth)
   PetscFunctionBeginUser;
   PetscOptionsBegin(cloth->comm, NULL, "Cloth distribution", "Cloth");
   PetscCall(PetscOptionsEnum("-cloth_partition", "How particles are split across ranks", "ClothSetUp", ClothPartitionTypes, (PetscEnum)cloth->partition_type, (PetscEnum *)&cloth->partition_type, NULL));
-  PetscCall(PetscOptionsBool("-cloth_view_partition", "Print the partition quality at start-up", "ClothView", cloth->view_partition, &cloth->view_partition, NULL));
+  PetscCall(PetscOptionsBool("-cloth_view_partition", "Print the partition quality at start-up, with one line per rank", "ClothView", cloth->view_partition, &cloth->view_partition, NULL));
+  PetscCall(PetscOptionsBool("-cloth_view_partition_summary", "Print a one-line partition summary at start-up on more than one rank", "ClothSetViewPartitionSummary", cloth->view_partition_summary, &cloth->view_partition_summary, NULL));
   PetscOptionsEnd();
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothSetViewPartitionSummary(Cloth cloth, PetscBool flg)
+{
+  PetscFunctionBeginUser;
+  cloth->view_partition_summary = flg;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -59,16 +67,28 @@ static PetscInt InteractionOwner(Cloth cloth, const PetscInt p[], PetscInt np)
   return cloth->part[natural];
 }
 
+/* How many links and angle springs this rank evaluates, so that its arrays are sized by its own
+   share and not by the model's totals. */
+static void ClothCountOwnInteractions(Cloth cloth, PetscMPIInt rank, PetscInt *nlinks, PetscInt *nangles)
+{
+  const ClothModel m = cloth->model;
+
+  *nlinks = *nangles = 0;
+  for (PetscInt l = 0; l < m->nlinks; l++)
+    if (InteractionOwner(cloth, m->links[l].p, 2) == rank) (*nlinks)++;
+  for (PetscInt a = 0; a < m->nangles; a++)
+    if (InteractionOwner(cloth, m->angles[a].p, 3) == rank) (*nangles)++;
+}
+
 /* Collects the solver indices of particles this rank's interactions touch but does not own. */
 static PetscErrorCode ClothFindGhosts(Cloth cloth, PetscMPIInt rank)
 {
   const ClothModel m = cloth->model;
-  PetscInt         n = 0, cap = 0;
+  PetscInt         n = 0, nlinks, nangles;
 
   PetscFunctionBeginUser;
-  for (PetscInt l = 0; l < m->nlinks; l++) cap += (InteractionOwner(cloth, m->links[l].p, 2) == rank) ? 2 : 0;
-  for (PetscInt a = 0; a < m->nangles; a++) cap += (InteractionOwner(cloth, m->angles[a].p, 3) == rank) ? 3 : 0;
-  PetscCall(PetscMalloc1(cap + 1, &cloth->ghosts));
+  ClothCountOwnInteractions(cloth, rank, &nlinks, &nangles);
+  PetscCall(PetscMalloc1(2 * nlinks + 3 * nangles + 1, &cloth->ghosts));
   for (PetscInt l = 0; l < m->nlinks; l++)
     if (InteractionOwner(cloth, m->links[l].p, 2) == rank)
       for (PetscInt k = 0; k < 2; k++)
@@ -102,9 +122,11 @@ static PetscErrorCode ClothLocalIndex(Cloth cloth, PetscInt natural, PetscInt *l
 static PetscErrorCode ClothDistributeInteractions(Cloth cloth, PetscMPIInt rank)
 {
   const ClothModel m = cloth->model;
+  PetscInt         nlinks, nangles;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscMalloc2(m->nlinks, &cloth->links, m->nangles, &cloth->angles));
+  ClothCountOwnInteractions(cloth, rank, &nlinks, &nangles);
+  PetscCall(PetscMalloc2(nlinks, &cloth->links, nangles, &cloth->angles));
   for (PetscInt l = 0; l < m->nlinks; l++) {
     if (InteractionOwner(cloth, m->links[l].p, 2) != rank) continue;
     cloth->links[cloth->nlinks] = m->links[l];
@@ -123,7 +145,7 @@ static PetscErrorCode ClothDistributeInteractions(Cloth cloth, PetscMPIInt rank)
 /* Per-particle data of owned particles and ghosts, and the initial state. */
 static PetscErrorCode ClothDistributeParticles(Cloth cloth)
 {
-  const ClothModel m = cloth->model;
+  const ClothModel m  = cloth->model;
   const PetscInt   nl = cloth->nlocal + cloth->nghost;
   PetscInt        *ghost_natural;
   PetscScalar     *x;
@@ -211,25 +233,79 @@ PetscErrorCode ClothSetUp(Cloth cloth)
   PetscCall(ClothSetUpNaturalScatter(cloth));
   cloth->setup = PETSC_TRUE;
   PetscCall(PetscLogEventEnd(ClothLog.setup, 0, 0, 0, 0));
-  if (cloth->view_partition) PetscCall(ClothView(cloth, PETSC_VIEWER_STDOUT_(cloth->comm)));
+  if (cloth->view_partition)
+    PetscCall(ClothView(cloth, PETSC_VIEWER_STDOUT_(cloth->comm)));
+  else if (cloth->view_partition_summary && size > 1) {
+    PetscViewer viewer = PETSC_VIEWER_STDOUT_(cloth->comm);
+    PetscCall(PetscViewerPushFormat(viewer, PETSC_VIEWER_ASCII_INFO));
+    PetscCall(ClothView(cloth, viewer));
+    PetscCall(PetscViewerPopFormat(viewer));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Number of other ranks that own this rank's ghosts (its partners in a ghost update). Ghosts are
+   sorted by solver index, and each rank's particles are contiguous there, so owners come in runs. */
+static PetscInt ClothCountGhostOwners(Cloth cloth)
+{
+  PetscInt owners = 0, last = -1;
+
+  for (PetscInt k = 0; k < cloth->nghost; k++) {
+    const PetscInt owner = cloth->part[cloth->natural_of_local[cloth->nlocal + k]];
+    if (owner != last) owners++;
+    last = owner;
+  }
+  return owners;
+}
+
+/* The one-line summary: edge cut, and min..max over ranks of owned particles, ghosts and evaluated
+   interactions, with imbalance = max / mean (1 is perfect; the slowest rank sets the pace). */
+static PetscErrorCode ClothViewPartitionSummary(Cloth cloth, PetscViewer viewer)
+{
+  enum { OWNED, GHOSTS, INTERACTIONS, NCOUNTS };
+  const PetscInt local[NCOUNTS] = {cloth->nlocal, cloth->nghost, cloth->nlinks + cloth->nangles};
+  const PetscInt edges          = cloth->xadj[cloth->nglobal] / 2;
+  PetscInt       minc[NCOUNTS], maxc[NCOUNTS], sum[NCOUNTS];
+  PetscMPIInt    size;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_size(cloth->comm, &size));
+  PetscCallMPI(MPI_Allreduce(local, minc, NCOUNTS, MPIU_INT, MPI_MIN, cloth->comm));
+  PetscCallMPI(MPI_Allreduce(local, maxc, NCOUNTS, MPIU_INT, MPI_MAX, cloth->comm));
+  PetscCallMPI(MPI_Allreduce(local, sum, NCOUNTS, MPIU_INT, MPI_SUM, cloth->comm));
+  PetscCall(PetscViewerASCIIPrintf(viewer,
+                                   "Partition (%s, %d rank(s)): edge cut %" PetscInt_FMT " of %" PetscInt_FMT " graph edges (%.2f%%); owned particles %" PetscInt_FMT "..%" PetscInt_FMT " (imbalance %.3f); ghosts %" PetscInt_FMT "..%" PetscInt_FMT
+                                   " (total %" PetscInt_FMT "); interactions evaluated %" PetscInt_FMT "..%" PetscInt_FMT " (imbalance %.3f)\n",
+                                   ClothPartitionTypes[cloth->partition_type], size, cloth->edge_cut, edges, edges ? 100.0 * (double)cloth->edge_cut / (double)edges : 0.0, minc[OWNED], maxc[OWNED], (double)maxc[OWNED] * size / (double)sum[OWNED],
+                                   minc[GHOSTS], maxc[GHOSTS], sum[GHOSTS], minc[INTERACTIONS], maxc[INTERACTIONS], sum[INTERACTIONS] ? (double)maxc[INTERACTIONS] * size / (double)sum[INTERACTIONS] : 1.0));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 PetscErrorCode ClothView(Cloth cloth, PetscViewer viewer)
 {
-  PetscMPIInt size;
-  PetscInt    counts[2] = {cloth->nlocal, cloth->nghost}, maxc[2], minc[2];
+  PetscMPIInt       rank;
+  PetscBool         ascii;
+  PetscViewerFormat format;
 
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_size(cloth->comm, &size));
-  PetscCallMPI(MPI_Allreduce(counts, maxc, 2, MPIU_INT, MPI_MAX, cloth->comm));
-  PetscCallMPI(MPI_Allreduce(counts, minc, 2, MPIU_INT, MPI_MIN, cloth->comm));
-  PetscCall(PetscViewerASCIIPrintf(viewer, "Cloth: %" PetscInt_FMT " particles, %" PetscInt_FMT " links, %" PetscInt_FMT " angle springs on %d rank(s), partition %s\n", cloth->nglobal, cloth->model->nlinks, cloth->model->nangles, size, ClothPartitionTypes[cloth->partition_type]));
-  PetscCall(PetscViewerASCIIPrintf(viewer, "  edge cut %" PetscInt_FMT "; owned per rank %" PetscInt_FMT "..%" PetscInt_FMT " (imbalance %.3f); ghosts per rank %" PetscInt_FMT "..%" PetscInt_FMT "\n", cloth->edge_cut, minc[0], maxc[0], (double)(maxc[0] * size) / (double)cloth->nglobal, minc[1], maxc[1]));
+  PetscCheck(cloth->setup, cloth->comm, PETSC_ERR_ORDER, "Call ClothSetUp before ClothView");
+  PetscCall(PetscObjectTypeCompare((PetscObject)viewer, PETSCVIEWERASCII, &ascii));
+  if (!ascii) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(PetscViewerGetFormat(viewer, &format));
+  if (format == PETSC_VIEWER_ASCII_INFO) {
+    PetscCall(ClothViewPartitionSummary(cloth, viewer));
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
+  PetscCallMPI(MPI_Comm_rank(cloth->comm, &rank));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "Cloth: %" PetscInt_FMT " particles, %" PetscInt_FMT " links, %" PetscInt_FMT " angle springs\n", cloth->nglobal, cloth->model->nlinks, cloth->model->nangles));
+  PetscCall(PetscViewerASCIIPushTab(viewer));
+  PetscCall(ClothViewPartitionSummary(cloth, viewer));
   PetscCall(PetscViewerASCIIPushSynchronized(viewer));
-  PetscCall(PetscViewerASCIISynchronizedPrintf(viewer, "  [%d] owned %" PetscInt_FMT ", ghosts %" PetscInt_FMT ", links %" PetscInt_FMT ", angles %" PetscInt_FMT "\n", PetscGlobalRank, cloth->nlocal, cloth->nghost, cloth->nlinks, cloth->nangles));
+  PetscCall(PetscViewerASCIISynchronizedPrintf(viewer, "[%d] owned %" PetscInt_FMT " (solver numbers %" PetscInt_FMT "..%" PetscInt_FMT "), ghosts %" PetscInt_FMT " from %" PetscInt_FMT " rank(s), links %" PetscInt_FMT ", angles %" PetscInt_FMT "\n",
+                                               rank, cloth->nlocal, cloth->rstart, cloth->rstart + cloth->nlocal - 1, cloth->nghost, ClothCountGhostOwners(cloth), cloth->nlinks, cloth->nangles));
   PetscCall(PetscViewerFlush(viewer));
   PetscCall(PetscViewerASCIIPopSynchronized(viewer));
+  PetscCall(PetscViewerASCIIPopTab(viewer));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -253,6 +329,7 @@ PetscErrorCode ClothDestroy(Cloth *cloth)
   PetscCall(VecDestroy(&c->velocity));
   PetscCall(VecDestroy(&c->work_force));
   PetscCall(VecDestroy(&c->work_kv));
+  PetscCall(VecDestroy(&c->contact_normal));
   PetscCall(VecDestroy(&c->natural));
   PetscCall(VecScatterDestroy(&c->to_natural));
   PetscCall(PetscFree(*cloth));
@@ -279,6 +356,15 @@ PetscErrorCode ClothGetSizes(Cloth cloth, PetscInt *nlocal, PetscInt *nglobal)
   PetscFunctionBeginUser;
   if (nlocal) *nlocal = cloth->nlocal;
   if (nglobal) *nglobal = cloth->nglobal;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothGetInteractionCounts(Cloth cloth, PetscInt *nlinks, PetscInt *nangles)
+{
+  PetscFunctionBeginUser;
+  PetscCheck(cloth->setup, PETSC_COMM_SELF, PETSC_ERR_ORDER, "Call ClothSetUp before ClothGetInteractionCounts");
+  if (nlinks) *nlinks = cloth->nlinks;
+  if (nangles) *nangles = cloth->nangles;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -12,6 +12,7 @@
 #include "partition.h"
 
 typedef struct _n_Cloth *Cloth;
+typedef struct _n_ClothSelfContact *ClothSelfContact; /* see selfcontact.h */
 
 /* Energies of the whole fabric, J. */
 typedef struct {
@@ -19,11 +20,16 @@ typedef struct {
 } ClothEnergy;
 
 PetscErrorCode ClothCreate(MPI_Comm comm, Scene scene, Cloth *cloth);
-/* Reads -cloth_partition metis|block and -cloth_view_partition. */
+/* Reads -cloth_partition metis|block, -cloth_view_partition and -cloth_view_partition_summary. */
 PetscErrorCode ClothSetFromOptions(Cloth cloth);
+/* Whether ClothSetUp prints the one-line partition summary when running on more than one rank
+   (default off, so that library users and tests stay quiet; the driver turns it on). */
+PetscErrorCode ClothSetViewPartitionSummary(Cloth cloth, PetscBool flg);
 /* Builds the model, partitions and distributes it. Collective. */
 PetscErrorCode ClothSetUp(Cloth cloth);
-/* Prints particle counts and partition quality (edge cut, owned and ghost counts per rank, imbalance). */
+/* Prints the partition quality: edge cut, owned, ghost and evaluated-interaction counts (min..max
+   over ranks) and their imbalance (max / mean); then one line per rank. With the viewer format
+   PETSC_VIEWER_ASCII_INFO only the first, one-line summary. Collective; after ClothSetUp. */
 PetscErrorCode ClothView(Cloth cloth, PetscViewer viewer);
 PetscErrorCode ClothDestroy(Cloth *cloth);
 
@@ -32,6 +38,9 @@ PetscErrorCode ClothGetState(Cloth cloth, Vec *position, Vec *velocity);
 /* A new ghosted Vec with the state's layout (forces, work). */
 PetscErrorCode ClothCreateStateVec(Cloth cloth, Vec *v);
 PetscErrorCode ClothGetSizes(Cloth cloth, PetscInt *nlocal, PetscInt *nglobal);
+/* The links and angle springs this rank evaluates. Every interaction of the model is evaluated on
+   exactly one rank, so these sum over the ranks to the model's totals. Not collective. */
+PetscErrorCode ClothGetInteractionCounts(Cloth cloth, PetscInt *nlinks, PetscInt *nangles);
 /* Per owned particle: mass (kg) and whether it is held fixed. Borrowed arrays. */
 PetscErrorCode ClothGetMasses(Cloth cloth, const PetscReal **mass, const PetscBool **fixed);
 
@@ -45,16 +54,32 @@ PetscErrorCode ClothAssembleImplicitSystem(Cloth cloth, PetscReal h, Vec positio
 /* With exact = true the implicit system uses the exact stiffness (possibly indefinite) instead of its
    positive semidefinite part; for Jacobian tests against finite differences. */
 PetscErrorCode ClothSetExactStiffness(Cloth cloth, PetscBool exact);
+/* Cloth-cloth contacts (selfcontact.h) whose repulsion joins the forces, energies and implicit system,
+   and whose coupled blocks ClothCreateMatrix preallocates; borrowed (the caller destroys it after the
+   cloth); NULL: none. */
+PetscErrorCode ClothSetSelfContact(Cloth cloth, ClothSelfContact sc);
+PetscErrorCode ClothGetSelfContact(Cloth cloth, ClothSelfContact *sc);
 /* A symmetric block (bs 3, BAIJ; -implicit_mat_type sbaij stores only the upper triangle) matrix with exactly the
    nonzero pattern of the interactions, preallocated. */
 PetscErrorCode ClothCreateMatrix(Cloth cloth, Mat *A);
-/* Zeroes the constrained components of a vector of per-particle 3-vectors (v <- S v). */
+/* Zeroes the constrained components of a vector of per-particle 3-vectors (v <- S v). Per particle,
+   S = 0 when pinned, S = I - n n^T when held against a body with unit normal n (see
+   ClothGetContactNormals), S = I when free. */
 PetscErrorCode ClothApplyConstraints(Cloth cloth, Vec v);
+/* The contact normals (a ghosted Vec with the state's layout, borrowed; created zero on first call): the
+   caller writes the owned entries (a unit normal, or 0 for no contact); the ghosts are refreshed by every
+   use. Collective on the first call. */
+PetscErrorCode ClothGetContactNormals(Cloth cloth, Vec *normals);
 PetscErrorCode ClothComputeEnergy(Cloth cloth, Vec position, Vec velocity, ClothEnergy *energy);
 
 /* Natural-order Vecs (PETSc's default contiguous layout, block size 3) for files. */
 PetscErrorCode ClothCreateNaturalVec(Cloth cloth, Vec *natural);
 /* SCATTER_FORWARD: solver -> natural; SCATTER_REVERSE: natural -> solver. */
 PetscErrorCode ClothScatterToNatural(Cloth cloth, Vec solver, Vec natural, ScatterMode mode);
+/* Strain for output (cloth_strain.c): per particle, the largest relative elongation (l - l0) / l0 of
+   its stretch links (negative when all are compressed), in natural order, one value per particle, in
+   a Vec from ClothCreateStrainVec. position (solver numbering) gets its ghosts refreshed. Collective. */
+PetscErrorCode ClothCreateStrainVec(Cloth cloth, Vec *strain);
+PetscErrorCode ClothComputeStrain(Cloth cloth, Vec position, Vec strain);
 /* The global model (every rank holds it; read-only): topology for output, counts. */
 PetscErrorCode ClothGetModel(Cloth cloth, ClothModel *model);

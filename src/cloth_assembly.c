@@ -1,6 +1,7 @@
 /* Cloth: forces, implicit system and energies (see cloth.h). One loop over this rank's interactions
    serves them all, so forces and stiffness always come from the same element evaluation. */
 #include "cloth_impl.h"
+#include "selfcontact.h"
 #include "log.h"
 
 #define CLOTH_MAX_ELEMENT_PARTICLES 3
@@ -15,6 +16,7 @@ typedef struct {
   PetscBool          energy_wanted;
   PetscReal          energy;
   PetscBool          psd;      /* clamp the stiffness to its positive semidefinite part */
+  const PetscScalar *normal;   /* contact normals, local form (NULL: no contacts) */
 } ClothEvaluation;
 
 /* Element data in a common form: np particles, forces (3 np), Hessian (3np x 3np, row-major). */
@@ -60,6 +62,41 @@ static PetscErrorCode EvaluateAngle(const ClothAngle *angle, const PetscScalar *
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* The constraint filter of local particle i (Baraff & Witkin 1998): S = 0 when pinned, I - n n^T when held
+   against a body with unit normal n, I when free. Returns whether S differs from I. */
+static PetscBool ConstraintFilter(Cloth cloth, const PetscScalar *normal, PetscInt i, PetscReal S[9])
+{
+  const PetscScalar *n = normal ? &normal[3 * i] : NULL;
+
+  for (PetscInt r = 0; r < 3; r++)
+    for (PetscInt c = 0; c < 3; c++) S[3 * r + c] = cloth->fixed[i] ? 0.0 : (r == c ? 1.0 : 0.0) - (n ? n[r] * n[c] : 0.0);
+  return (cloth->fixed[i] || (n && (n[0] != 0 || n[1] != 0 || n[2] != 0))) ? PETSC_TRUE : PETSC_FALSE;
+}
+
+/* H (n x n, row-major, 3x3 blocks) <- h2 S_a H_ab S_b for every block: the filtered element stiffness. Written
+   on both sides so that the filtered system stays symmetric and CG applies. */
+static void FilterElementStiffness(Cloth cloth, const PetscScalar *normal, PetscReal h2, ClothElement *e)
+{
+  const PetscInt n = 3 * e->np;
+  PetscReal      S[CLOTH_MAX_ELEMENT_PARTICLES][9], B[9], T[9];
+  PetscBool      constrained = PETSC_FALSE;
+
+  for (PetscInt a = 0; a < e->np; a++) constrained = ConstraintFilter(cloth, normal, e->p[a], S[a]) ? PETSC_TRUE : constrained;
+  if (!constrained) {
+    for (PetscInt k = 0; k < n * n; k++) e->H[k] *= h2;
+    return;
+  }
+  for (PetscInt a = 0; a < e->np; a++)
+    for (PetscInt b = 0; b < e->np; b++) {
+      for (PetscInt r = 0; r < 3; r++)
+        for (PetscInt c = 0; c < 3; c++) B[3 * r + c] = e->H[n * (3 * a + r) + 3 * b + c];
+      for (PetscInt r = 0; r < 3; r++) /* T = B S_b */
+        for (PetscInt c = 0; c < 3; c++) T[3 * r + c] = B[3 * r] * S[b][c] + B[3 * r + 1] * S[b][3 + c] + B[3 * r + 2] * S[b][6 + c];
+      for (PetscInt r = 0; r < 3; r++) /* S_a T */
+        for (PetscInt c = 0; c < 3; c++) e->H[n * (3 * a + r) + 3 * b + c] = h2 * (S[a][3 * r] * T[c] + S[a][3 * r + 1] * T[3 + c] + S[a][3 * r + 2] * T[6 + c]);
+    }
+}
+
 /* Adds one element's contributions to what the evaluation wants. */
 static PetscErrorCode AccumulateElement(Cloth cloth, ClothElement *e, ClothEvaluation *ev)
 {
@@ -77,9 +114,8 @@ static PetscErrorCode AccumulateElement(Cloth cloth, ClothElement *e, ClothEvalu
       ev->kv[3 * e->p[r / 3] + r % 3] += sum;
     }
   if (ev->A) {
-    /* Filter: rows and columns of fixed particles drop out (their identity goes on the diagonal). */
-    for (PetscInt r = 0; r < n; r++)
-      for (PetscInt q = 0; q < n; q++) e->H[n * r + q] = (cloth->fixed[e->p[r / 3]] || cloth->fixed[e->p[q / 3]]) ? 0.0 : ev->h2 * e->H[n * r + q];
+    /* Filter: constrained directions drop out (I - S goes on the diagonal, AddDiagonalBlocks). */
+    FilterElementStiffness(cloth, ev->normal, ev->h2, e);
     PetscCall(MatSetValuesBlockedLocal(ev->A, e->np, e->p, e->np, e->p, e->H, ADD_VALUES));
   }
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -169,6 +205,8 @@ static PetscErrorCode ClothEvaluate(Cloth cloth, Vec position, Vec velocity, Vec
   PetscCall(VecGhostRestoreLocalForm(position, &xl));
   PetscCall(GhostSumBack(force));
   if (kv) PetscCall(GhostSumBack(kv));
+  /* cloth-cloth repulsion: its elements reach particles of other ranks that are not ghosts */
+  if (cloth->self_contact) PetscCall(ClothSelfContactAddForces_Private(cloth->self_contact, position, velocity, force, kv, ev->A, ev->h2, ev->psd, ev->energy_wanted ? &ev->energy : NULL));
   PetscCall(VecGetArrayRead(velocity, &v));
   PetscCall(VecGetArray(force, &f));
   PetscCall(AddBodyForces(cloth, v, f));
@@ -188,21 +226,58 @@ PetscErrorCode ClothComputeForces(Cloth cloth, Vec position, Vec velocity, Vec f
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* Diagonal blocks: S (m + h c) I S + (I - S) for every owned particle. */
-static PetscErrorCode AddDiagonalBlocks(Cloth cloth, PetscReal h, Mat A)
+/* Diagonal blocks: S (m + h c) I S + (I - S) = (m + h c) S + (I - S) (S is a projector) for every owned particle. */
+static PetscErrorCode AddDiagonalBlocks(Cloth cloth, const PetscScalar *normal, PetscReal h, Mat A)
 {
   PetscFunctionBeginUser;
   for (PetscInt i = 0; i < cloth->nlocal; i++) {
-    const PetscReal d        = cloth->fixed[i] ? 1.0 : cloth->mass[i] + h * cloth->damping[i];
-    const PetscReal block[9] = {d, 0, 0, 0, d, 0, 0, 0, d};
+    const PetscReal d = cloth->mass[i] + h * cloth->damping[i];
+    PetscReal       block[9];
+
+    (void)ConstraintFilter(cloth, normal, i, block);
+    for (PetscInt k = 0; k < 9; k++) block[k] = d * block[k] + ((k % 4 == 0) ? 1.0 : 0.0) - block[k];
     PetscCall(MatSetValuesBlockedLocal(A, 1, &i, 1, &i, block, ADD_VALUES));
   }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The contact normals in local form with fresh ghosts (NULL when there are no contacts), and their release. */
+static PetscErrorCode GetContactNormalsLocal(Cloth cloth, Vec *local, const PetscScalar **normal)
+{
+  PetscFunctionBeginUser;
+  *local  = NULL;
+  *normal = NULL;
+  if (!cloth->contact_normal) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(GhostRefresh(cloth->contact_normal));
+  PetscCall(VecGhostGetLocalForm(cloth->contact_normal, local));
+  PetscCall(VecGetArrayRead(*local, normal));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode RestoreContactNormalsLocal(Cloth cloth, Vec *local, const PetscScalar **normal)
+{
+  PetscFunctionBeginUser;
+  if (!*local) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(VecRestoreArrayRead(*local, normal));
+  PetscCall(VecGhostRestoreLocalForm(cloth->contact_normal, local));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothGetContactNormals(Cloth cloth, Vec *normals)
+{
+  PetscFunctionBeginUser;
+  if (!cloth->contact_normal) {
+    PetscCall(ClothCreateStateVec(cloth, &cloth->contact_normal));
+    PetscCall(VecZeroEntries(cloth->contact_normal));
+  }
+  *normals = cloth->contact_normal;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 PetscErrorCode ClothAssembleImplicitSystem(Cloth cloth, PetscReal h, Vec position, Vec velocity, Mat A, Vec rhs)
 {
   ClothEvaluation ev = {0};
+  Vec             normal_local;
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(ClothLog.jacobian, 0, 0, 0, 0));
@@ -210,8 +285,10 @@ PetscErrorCode ClothAssembleImplicitSystem(Cloth cloth, PetscReal h, Vec positio
   ev.A   = A;
   ev.h2  = h * h;
   ev.psd = cloth->exact_stiffness ? PETSC_FALSE : PETSC_TRUE;
+  PetscCall(GetContactNormalsLocal(cloth, &normal_local, &ev.normal));
   PetscCall(ClothEvaluate(cloth, position, velocity, cloth->work_force, cloth->work_kv, &ev));
-  PetscCall(AddDiagonalBlocks(cloth, h, A));
+  PetscCall(AddDiagonalBlocks(cloth, ev.normal, h, A));
+  PetscCall(RestoreContactNormalsLocal(cloth, &normal_local, &ev.normal));
   PetscCall(MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY));
   /* rhs = h (F - h K v), filtered, while the matrix assembly communicates */
   PetscCall(VecAXPBYPCZ(rhs, h, -h * h, 0.0, cloth->work_force, cloth->work_kv));
@@ -223,14 +300,20 @@ PetscErrorCode ClothAssembleImplicitSystem(Cloth cloth, PetscReal h, Vec positio
 
 PetscErrorCode ClothApplyConstraints(Cloth cloth, Vec v)
 {
-  PetscScalar *a;
+  PetscScalar       *a;
+  const PetscScalar *normal = NULL;
+  PetscReal          S[9], w[3];
 
   PetscFunctionBeginUser;
+  if (cloth->contact_normal) PetscCall(VecGetArrayRead(cloth->contact_normal, &normal));
   PetscCall(VecGetArray(v, &a));
-  for (PetscInt i = 0; i < cloth->nlocal; i++)
-    if (cloth->fixed[i])
-      for (PetscInt c = 0; c < 3; c++) a[3 * i + c] = 0;
+  for (PetscInt i = 0; i < cloth->nlocal; i++) {
+    if (!ConstraintFilter(cloth, normal, i, S)) continue;
+    for (PetscInt r = 0; r < 3; r++) w[r] = S[3 * r] * a[3 * i] + S[3 * r + 1] * a[3 * i + 1] + S[3 * r + 2] * a[3 * i + 2];
+    for (PetscInt r = 0; r < 3; r++) a[3 * i + r] = w[r];
+  }
   PetscCall(VecRestoreArray(v, &a));
+  if (normal) PetscCall(VecRestoreArrayRead(cloth->contact_normal, &normal));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -300,6 +383,7 @@ PetscErrorCode ClothCreateMatrix(Cloth cloth, Mat *A)
   PetscCall(MatSetFromOptions(*A));
   PetscCall(PetscMalloc4(cloth->nlocal, &dnnz, cloth->nlocal, &onnz, cloth->nlocal, &dnnzu, cloth->nlocal, &onnzu));
   PetscCall(CountRowBlocks(cloth, dnnz, onnz, dnnzu, onnzu));
+  if (cloth->self_contact) PetscCall(ClothSelfContactCountRowBlocks_Private(cloth->self_contact, dnnz, onnz, dnnzu, onnzu));
   PetscCall(MatXAIJSetPreallocation(*A, 3, dnnz, onnz, dnnzu, onnzu));
   PetscCall(PetscFree4(dnnz, onnz, dnnzu, onnzu));
   PetscCall(VecGetLocalToGlobalMapping(cloth->position, &l2g));
@@ -318,5 +402,19 @@ PetscErrorCode ClothSetExactStiffness(Cloth cloth, PetscBool exact)
 {
   PetscFunctionBeginUser;
   cloth->exact_stiffness = exact;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothSetSelfContact(Cloth cloth, ClothSelfContact sc)
+{
+  PetscFunctionBeginUser;
+  cloth->self_contact = sc;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothGetSelfContact(Cloth cloth, ClothSelfContact *sc)
+{
+  PetscFunctionBeginUser;
+  *sc = cloth->self_contact;
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -9,6 +9,7 @@ struct _n_Cloth {
   ClothModel         model;
   ClothPartitionType partition_type;
   PetscBool          view_partition;
+  PetscBool          view_partition_summary; /* one line at set-up on more than one rank (the driver's default) */
   PetscBool          setup;
   PetscBool          exact_stiffness; /* assemble the exact Hessian instead of its PSD part (tests) */
 
@@ -27,6 +28,9 @@ struct _n_Cloth {
   PetscInt          *xadj, *adjncy; /* natural-order adjacency, kept for preallocation */
 
   Vec                position, velocity, work_force, work_kv;
+  Vec                contact_normal; /* ghosted, bs 3: unit normal of each particle's contact constraint, 0 when free
+                                        (created by ClothGetContactNormals; NULL: no contacts) */
+  struct _n_ClothSelfContact *self_contact; /* cloth-cloth contacts (selfcontact.h; borrowed, NULL: off) */
   Vec                natural;      /* template for natural-order Vecs */
   VecScatter         to_natural;
 };

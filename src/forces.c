@@ -10,11 +10,19 @@ static inline PetscReal Dot3(const PetscReal a[3], const PetscReal b[3])
 /* Link potential phi(l) and its first two derivatives. */
 static void LinkPotential(const ClothLink *link, PetscReal l, PetscReal *phi, PetscReal *dphi, PetscReal *d2phi)
 {
-  const PetscReal stretch = l - link->rest;
+  const PetscReal stretch = l - link->rest, knee = link->knee_length;
 
-  *phi   = 0.5 * link->k * stretch * stretch;
-  *dphi  = link->k * stretch;
-  *d2phi = link->k;
+  if (knee > 0 && stretch > knee) { /* biphasic: the stiff branch continues the soft one's energy and force */
+    const PetscReal beyond = stretch - knee;
+
+    *phi   = 0.5 * link->k * knee * knee + link->k * knee * beyond + 0.5 * link->k_stiff * beyond * beyond;
+    *dphi  = link->k * knee + link->k_stiff * beyond;
+    *d2phi = link->k_stiff;
+  } else {
+    *phi   = 0.5 * link->k * stretch * stretch;
+    *dphi  = link->k * stretch;
+    *d2phi = link->k;
+  }
   if (link->repel_length > 0 && l < link->repel_length) {
     const PetscReal gap = link->repel_length - l;
     *phi += 0.5 * link->repel_k * gap * gap;

@@ -8,13 +8,18 @@
 
 /* A link between two particles (stretch, shear diagonal, skip-one bending link). Its energy is
    0.5 k (l - rest)^2, plus, when repel_length > 0, 0.5 repel_k (repel_length - l)^2 for
-   l < repel_length (the paper's short-range repulsion that keeps particles apart). */
+   l < repel_length (the paper's short-range repulsion that keeps particles apart). When
+   knee_length > 0 the curve is biphasic: beyond an extension s = l - rest > knee_length the
+   energy continues as 0.5 k knee^2 + k knee (s - knee) + 0.5 k_stiff (s - knee)^2 (force
+   continuous, stiffness k below the knee, k_stiff above). */
 typedef struct {
   PetscInt  p[2];         /* particle indices (local numbering once distributed) */
   PetscReal k;            /* stiffness, N/m */
   PetscReal rest;         /* rest length, m */
   PetscReal repel_length; /* 0 = no repulsion */
   PetscReal repel_k;      /* N/m */
+  PetscReal knee_length;  /* extension where a biphasic link stiffens, m (0 = linear) */
+  PetscReal k_stiff;      /* stiffness beyond the knee, N/m */
 } ClothLink;
 
 typedef enum {

@@ -1,5 +1,6 @@
 /* ClothIntegrator (see integrator.h). */
 #include "integrator.h"
+#include "selfcontact.h"
 #include "log.h"
 
 typedef PetscErrorCode (*ClothStepFunction)(ClothIntegrator, PetscReal, PetscBool *, PetscInt *);
@@ -12,6 +13,7 @@ struct _n_ClothIntegrator {
   PetscInt          max_halvings;
   PetscBool         setup;
   Vec               force, saved_position, saved_velocity, start_position, start_velocity;
+  ClothCollision    collision; /* borrowed; NULL: no bodies */
   /* implicit only */
   Mat               A;
   KSP               ksp;
@@ -63,6 +65,35 @@ static PetscErrorCode StepExplicit(ClothIntegrator integ, PetscReal h, PetscBool
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* Cloth-cloth contacts (selfcontact.h) at the start of a (sub-)step; the implicit matrix is created
+   again when they couple particles its pattern has no room for. */
+static PetscErrorCode UpdateSelfContact(ClothIntegrator integ, PetscReal h)
+{
+  ClothSelfContact sc;
+  PetscBool        grown;
+
+  PetscFunctionBeginUser;
+  PetscCall(ClothGetSelfContact(integ->cloth, &sc));
+  if (!sc) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(ClothSelfContactUpdate(sc, h, &grown));
+  if (grown && integ->A) {
+    PetscCall(MatDestroy(&integ->A));
+    PetscCall(ClothCreateMatrix(integ->cloth, &integ->A));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Impulses on v_{n+1} before x moves by h v_{n+1}, so that no layer passes through another. */
+static PetscErrorCode FilterSelfContact(ClothIntegrator integ, PetscReal h, Vec v)
+{
+  ClothSelfContact sc;
+
+  PetscFunctionBeginUser;
+  PetscCall(ClothGetSelfContact(integ->cloth, &sc));
+  if (sc) PetscCall(ClothSelfContactFilterVelocity(sc, h, v));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 /* Symplectic Euler: v += h a(x_n, v_n); x += h v_{n+1}. */
 static PetscErrorCode StepSymplectic(ClothIntegrator integ, PetscReal h, PetscBool *ok, PetscInt *its)
 {
@@ -73,6 +104,7 @@ static PetscErrorCode StepSymplectic(ClothIntegrator integ, PetscReal h, PetscBo
   PetscCall(ClothComputeForces(integ->cloth, x, v, integ->force));
   PetscCall(ForceToAcceleration(integ->cloth, integ->force));
   PetscCall(VecAXPY(v, h, integ->force));
+  PetscCall(FilterSelfContact(integ, h, v));
   PetscCall(VecAXPY(x, h, v));
   PetscCall(VecIsFinite(x, ok));
   *its = 0;
@@ -98,6 +130,7 @@ static PetscErrorCode StepImplicit(ClothIntegrator integ, PetscReal h, PetscBool
   if (*ok) PetscCall(VecIsFinite(integ->dv, ok));
   if (!*ok) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(VecAXPY(v, 1.0, integ->dv));
+  PetscCall(FilterSelfContact(integ, h, v));
   PetscCall(VecAXPY(x, h, v));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -200,11 +233,13 @@ static PetscErrorCode StepOrHalve(ClothIntegrator integ, PetscReal h, PetscInt d
   PetscCall(ClothGetState(integ->cloth, &x, &v));
   PetscCall(VecCopy(x, integ->saved_position));
   PetscCall(VecCopy(v, integ->saved_velocity));
+  PetscCall(UpdateSelfContact(integ, h));
   PetscCall(integ->step(integ, h, ok, &its));
   stats->krylov_iterations += its;
+  stats->smallest_dt = PetscMin(stats->smallest_dt, h);
   if (*ok) {
     stats->substeps++;
-    stats->smallest_dt = PetscMin(stats->smallest_dt, h);
+    if (integ->collision) PetscCall(ClothCollisionApply(integ->collision, integ->saved_position, h)); /* contacts of this sub-step */
     PetscFunctionReturn(PETSC_SUCCESS);
   }
   PetscCall(VecCopy(integ->saved_position, x));
@@ -235,6 +270,21 @@ PetscErrorCode ClothIntegratorStep(ClothIntegrator integ, PetscReal dt, PetscBoo
     PetscCall(VecCopy(integ->start_velocity, v));
   }
   if (stats) *stats = s;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothIntegratorGetWarmStart(ClothIntegrator integ, Vec *dv)
+{
+  PetscFunctionBeginUser;
+  PetscCheck(integ->setup, PETSC_COMM_WORLD, PETSC_ERR_ORDER, "Call ClothIntegratorSetUp before ClothIntegratorGetWarmStart");
+  *dv = integ->dv;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothIntegratorSetCollision(ClothIntegrator integ, ClothCollision collision)
+{
+  PetscFunctionBeginUser;
+  integ->collision = collision;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

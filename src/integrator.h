@@ -7,6 +7,7 @@
 #pragma once
 #include <petscksp.h>
 #include "cloth.h"
+#include "collision.h"
 
 typedef struct _n_ClothIntegrator *ClothIntegrator;
 
@@ -14,7 +15,7 @@ typedef struct _n_ClothIntegrator *ClothIntegrator;
 typedef struct {
   PetscInt  substeps;          /* sub-steps actually taken (1 when no reduction was needed) */
   PetscInt  krylov_iterations; /* summed over the sub-steps */
-  PetscReal smallest_dt;
+  PetscReal smallest_dt;       /* the smallest step tried */
 } ClothStepStats;
 
 PetscErrorCode ClothIntegratorCreate(Cloth cloth, ClothIntegrator *integ);
@@ -26,5 +27,11 @@ PetscErrorCode ClothIntegratorSetUp(ClothIntegrator integ);
 /* Advances by dt. *ok is false when even the smallest allowed sub-step failed; the state is then
    left as it was before the call (the last good state). Collective. */
 PetscErrorCode ClothIntegratorStep(ClothIntegrator integ, PetscReal dt, PetscBool *ok, ClothStepStats *stats);
+/* The implicit type's warm start: dv of the last step, the Krylov initial guess of the next one
+   (solver numbering, borrowed; after ClothIntegratorSetUp). *dv is NULL for the other types, which
+   keep no state between steps. A bit-for-bit restart saves and restores it. */
+PetscErrorCode ClothIntegratorGetWarmStart(ClothIntegrator integ, Vec *dv);
+/* Resolves contacts with the scene's bodies after every successful sub-step (collision borrowed; NULL: none). */
+PetscErrorCode ClothIntegratorSetCollision(ClothIntegrator integ, ClothCollision collision);
 PetscErrorCode ClothIntegratorView(ClothIntegrator integ, PetscViewer viewer);
 PetscErrorCode ClothIntegratorDestroy(ClothIntegrator *integ);

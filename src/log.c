@@ -19,6 +19,10 @@ PetscErrorCode ClothLogRegister(void)
   PetscCall(PetscLogEventRegister("ClothSolve", ClothLog.classid, &ClothLog.solve));
   PetscCall(PetscLogEventRegister("ClothOutput", ClothLog.classid, &ClothLog.output));
   PetscCall(PetscLogEventRegister("ClothCheckpoint", ClothLog.classid, &ClothLog.checkpoint));
+  PetscCall(PetscLogEventRegister("ClothCollision", ClothLog.classid, &ClothLog.collision));
+  PetscCall(PetscLogEventRegister("ClothCollisionGrid", ClothLog.classid, &ClothLog.collision_grid));
+  PetscCall(PetscLogEventRegister("ClothSelfCollision", ClothLog.classid, &ClothLog.self_collision));
+  PetscCall(PetscLogEventRegister("ClothCheckpointRead", ClothLog.classid, &ClothLog.checkpoint_read));
   PetscCall(PetscLogStageRegister("Setup", &ClothLog.stage_setup));
   PetscCall(PetscLogStageRegister("Time steps", &ClothLog.stage_steps));
   PetscFunctionReturn(PETSC_SUCCESS);

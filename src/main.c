@@ -1,22 +1,54 @@
 /* clothsim driver: reads the scene and runs it; every object is set up from the options database. */
 #include <petscsys.h>
+#include "util.h"
 #include "scene.h"
 #include "run.h"
 
 static const char help[] = "clothsim: woven fabric as a particle system (MPI + PETSc).\n"
                            "Usage: mpiexec -n P clothsim -scene input/NAME.yaml [options]\n"
-                           "Run-level options override the scene's run: block; PETSc's -ksp_*, -pc_*, -log_view pass through.\n";
+                           "Run-level options override the scene's run: block; PETSc's -ksp_*, -pc_*, -log_view pass through.\n"
+                           "Options that nothing used (misspelled, or meant for another integrator) are listed at the end of the run.\n";
+
+static PetscErrorCode GetScenePath(char path[], size_t size)
+{
+  PetscBool has_scene = PETSC_FALSE;
+
+  PetscFunctionBeginUser;
+  PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "clothsim", "main");
+  PetscCall(PetscOptionsString("-scene", "Scene file (YAML) to simulate", "SceneCreateFromFile", path, path, size, &has_scene));
+  PetscOptionsEnd();
+  PetscCheck(has_scene, PETSC_COMM_WORLD, PETSC_ERR_USER_INPUT, "No scene given: run as clothsim -scene input/NAME.yaml (see -help)");
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* PETSc ignores options nobody asked for, so a misspelled -dtt would silently run with the default step.
+   Lists them on stderr (rank 0). With -options_left PETSc prints its own list in PetscFinalize instead. */
+static PetscErrorCode WarnUnusedOptions(MPI_Comm comm)
+{
+  PetscBool options_left = PETSC_FALSE, set;
+  PetscInt  nunused;
+  char    **names, **values;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsGetBool(NULL, NULL, "-options_left", &options_left, &set));
+  if (set && options_left) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(PetscOptionsLeftGet(NULL, &nunused, &names, &values));
+  if (nunused > 0) {
+    PetscCall(PetscFPrintf(comm, PETSC_STDERR, "WARNING: %" PetscInt_FMT " option(s) were given but never used (misspelled, or not meant for this run):\n", nunused));
+    for (PetscInt i = 0; i < nunused; i++) PetscCall(PetscFPrintf(comm, PETSC_STDERR, "  -%s %s\n", names[i], values[i] ? values[i] : ""));
+  }
+  PetscCall(PetscOptionsLeftRestore(NULL, &nunused, &names, &values));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
 
 int main(int argc, char **argv)
 {
-  char      scene_path[PETSC_MAX_PATH_LEN] = "";
-  PetscBool has_scene;
-  Scene     scene;
-  ClothRun  run;
+  char     scene_path[PETSC_MAX_PATH_LEN] = "";
+  Scene    scene;
+  ClothRun run;
 
   PetscCall(PetscInitialize(&argc, &argv, NULL, help));
-  PetscCall(PetscOptionsGetString(NULL, NULL, "-scene", scene_path, sizeof(scene_path), &has_scene));
-  PetscCheck(has_scene, PETSC_COMM_WORLD, PETSC_ERR_USER_INPUT, "No scene given: run as clothsim -scene input/NAME.yaml (see -help)");
+  PetscCall(GetScenePath(scene_path, sizeof(scene_path)));
   PetscCall(SceneCreateFromFile(PETSC_COMM_WORLD, scene_path, &scene));
   PetscCall(ClothRunCreate(PETSC_COMM_WORLD, scene, &run));
   PetscCall(ClothRunSetFromOptions(run));
@@ -25,6 +57,7 @@ int main(int argc, char **argv)
   PetscCall(ClothRunSolve(run));
   PetscCall(ClothRunDestroy(&run));
   PetscCall(SceneDestroy(&scene));
+  PetscCall(WarnUnusedOptions(PETSC_COMM_WORLD));
   PetscCall(PetscFinalize());
   return 0;
 }

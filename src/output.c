@@ -5,7 +5,9 @@
      /frames/NNNNNN/              one group per frame, NNNNNN = step (six digits or more);
                                   attributes step (int64), time (float64)
        position                   (N, 3) float64, natural order
-       velocity                   (N, 3) float64 (and any further per-node field, see OutputNodeFields)
+       velocity                   (N, 3) float64
+       strain                     (N, 1) float64: largest relative elongation of the particle's
+                                  stretch links (any further per-node field: see OutputNodeFields)
      /static/<mesh>/points        (nverts, 3) float64: meshes that do not move (ClothOutputAddStaticMesh)
      /static/<mesh>/triangles     (ntris, 3) int
    NAME.xdmf (Xdmf 3) references these with paths relative to its own folder, so the folder can move.
@@ -16,13 +18,13 @@
 #include "h5util.h"
 
 /* Per-node fields written in every frame besides the positions, as XDMF Attributes of the fabric.
-   To add one (e.g. strain): add its entry here and pass its Vec at the same index to
-   OutputWriteFrameFields (ncomp 1 is a Scalar, 3 a Vector). */
+   To add one: add its entry here and pass its Vec at the same index to OutputWriteFrameFields
+   (ncomp 1 is a Scalar, 3 a Vector). */
 typedef struct {
   const char *name;
   PetscInt    ncomp;
 } OutputNodeField;
-static const OutputNodeField OutputNodeFields[] = {{"velocity", 3}};
+static const OutputNodeField OutputNodeFields[] = {{"velocity", 3}, {"strain", 1}};
 #define OUTPUT_NFIELDS ((PetscInt)PETSC_STATIC_ARRAY_LENGTH(OutputNodeFields))
 
 typedef struct {
@@ -119,6 +121,20 @@ static PetscErrorCode OutputWriteTopology(ClothOutput out, hid_t file, const Clo
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* Checks that a frame kept from an earlier run holds every node field, since the .xdmf lists them all
+   for every frame (a series written by an older clothsim may lack one). */
+static PetscErrorCode OutputCheckKeptFrame(ClothOutput out, hid_t frame, const char name[])
+{
+  PetscBool exists;
+
+  PetscFunctionBeginUser;
+  for (PetscInt f = 0; f < OUTPUT_NFIELDS; f++) {
+    PetscCall(ClothH5LinkExists(frame, OutputNodeFields[f].name, &exists));
+    PetscCheck(exists, out->comm, PETSC_ERR_FILE_UNEXPECTED, "Output series %s: frame /frames/%s has no field %s (written by an older clothsim?): move the series away to start a new one", out->h5path, name, OutputNodeFields[f].name);
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 /* Reads the frame groups of an existing series: those up to restart_time go into the frame list, the
    later ones are deleted. */
 static PetscErrorCode OutputTrimFrames(ClothOutput out, hid_t file, PetscReal restart_time)
@@ -143,6 +159,7 @@ static PetscErrorCode OutputTrimFrames(ClothOutput out, hid_t file, PetscReal re
     ClothCallHDF5(frame = H5Gopen2(frames, name, H5P_DEFAULT));
     PetscCall(ClothH5AttributeReadInt64(frame, "step", &step));
     PetscCall(ClothH5AttributeReadReal(frame, "time", &time));
+    if (time <= limit) PetscCall(OutputCheckKeptFrame(out, frame, name));
     ClothCallHDF5(H5Gclose(frame));
     if (time > limit)
       PetscCall(PetscStrncpy(drop[ndrop++], name, sizeof(drop[0])));
@@ -304,14 +321,19 @@ static PetscErrorCode OutputWriteFrameFields(ClothOutput out, PetscInt64 step, P
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode ClothOutputWriteFrame(ClothOutput out, PetscInt step, PetscReal time, Vec position, Vec velocity)
+PetscErrorCode ClothOutputWriteFrame(ClothOutput out, PetscInt step, PetscReal time, Vec position, Vec velocity, Vec strain)
 {
   PetscInt n;
-  Vec      fields[OUTPUT_NFIELDS] = {velocity};
+  Vec      fields[OUTPUT_NFIELDS] = {velocity, strain};
 
   PetscFunctionBeginUser;
   PetscCall(VecGetSize(position, &n));
   PetscCheck(n == 3 * out->nparticles, out->comm, PETSC_ERR_ARG_SIZ, "Frame positions have size %" PetscInt_FMT ", the series has %" PetscInt_FMT " particles", n, out->nparticles);
+  for (PetscInt f = 0; f < OUTPUT_NFIELDS; f++) {
+    PetscCall(VecGetSize(fields[f], &n));
+    PetscCheck(n == OutputNodeFields[f].ncomp * out->nparticles, out->comm, PETSC_ERR_ARG_SIZ, "Frame field %s has size %" PetscInt_FMT ", expected %" PetscInt_FMT " per particle (%" PetscInt_FMT " particles)", OutputNodeFields[f].name, n,
+               OutputNodeFields[f].ncomp, out->nparticles);
+  }
   PetscCall(OutputWriteFrameFields(out, step, time, position, fields));
   PetscCall(OutputWriteXdmf(out));
   PetscFunctionReturn(PETSC_SUCCESS);

@@ -21,9 +21,10 @@ typedef struct {
    and later frames are dropped (a restarted run then appends with no duplicated or missing times);
    otherwise any previous series under that name is replaced. Collective. */
 PetscErrorCode ClothOutputCreate(MPI_Comm comm, const char dir[], const char name[], const ClothOutputTopology *topology, PetscReal restart_time, ClothOutput *out);
-/* Appends one frame: positions and velocities (natural order) at (step, time); rewrites the .xdmf so
-   that it is complete after every frame. Collective. */
-PetscErrorCode ClothOutputWriteFrame(ClothOutput out, PetscInt step, PetscReal time, Vec position, Vec velocity);
+/* Appends one frame at (step, time): positions and velocities (natural order, 3 per particle) and the
+   strain (natural order, one value per particle: ClothComputeStrain); rewrites the .xdmf so that it
+   is complete after every frame. Collective. */
+PetscErrorCode ClothOutputWriteFrame(ClothOutput out, PetscInt step, PetscReal time, Vec position, Vec velocity, Vec strain);
 /* Adds a mesh that does not move (the mannequin): nverts points (coords: 3 per point) and ntris
    triangles (tris: 3 point indices each, 0-based), written once to NAME.h5:/static/<name>/{points,
    triangles} and shown as a grid <name> beside "fabric" in every frame of the .xdmf. Every rank passes

@@ -24,7 +24,7 @@ static PetscErrorCode PartitionMETIS(PetscInt n, const PetscInt xadj[], const Pe
   for (PetscInt i = 0; i <= n; i++) mxadj[i] = (idx_t)xadj[i];
   for (PetscInt i = 0; i < xadj[n]; i++) madj[i] = (idx_t)adjncy[i];
   METIS_SetDefaultOptions(options);
-  options[METIS_OPTION_SEED]    = 1; /* the same partition on every run */
+  options[METIS_OPTION_SEED]      = 1; /* the same partition on every run */
   options[METIS_OPTION_NUMBERING] = 0;
   ClothCallMETIS(METIS_PartGraphKway(&nvtxs, &ncon, mxadj, madj, NULL, NULL, NULL, &np, NULL, NULL, options, &objval, mpart));
   for (PetscInt i = 0; i < n; i++) part[i] = (PetscInt)mpart[i];

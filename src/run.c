@@ -3,6 +3,7 @@
 #include "run.h"
 #include "output.h"
 #include "checkpoint.h"
+#include "selfcontact.h"
 #include "log.h"
 
 struct _n_ClothRun {
@@ -10,30 +11,36 @@ struct _n_ClothRun {
   Scene           scene;
   Cloth           cloth;
   ClothIntegrator integrator;
+  ClothCollision  collision;       /* NULL when the scene has no bodies */
   ClothOutput     output;
+  ClothSelfContact self_contact;   /* cloth-cloth collisions; attached to the cloth only when enabled */
 
   PetscReal       dt, t_final;
   PetscInt        steps;           /* total steps of the run (from -steps or t_final / dt) */
   PetscInt        step;            /* steps taken so far (continues from a restart) */
   PetscReal       time;
+  PetscInt        dt_start_step;   /* step and time at which dt came into use (0, 0 unless a restart */
+  PetscReal       dt_start_time;   /* changed dt): time = dt_start_time + dt (step - dt_start_step) */
+  PetscBool       dt_set;          /* -dt given: it overrides the step of a restart's checkpoint */
   char            output_dir[CLOTH_PATH_LEN];
   PetscInt        output_every, checkpoint_every, checkpoint_keep;
   char            restart[CLOTH_PATH_LEN];
   PetscReal       progress_seconds;
   PetscBool       monitor_energy;
 
-  Vec             natural_position, natural_velocity;
+  Vec             natural_position, natural_velocity, natural_dv; /* natural_dv: the implicit warm start */
+  Vec             natural_contact;                                 /* contact normals (scenes with bodies) */
+  Vec             natural_strain;                                  /* one value per particle, for frames */
   char            last_checkpoint[CLOTH_PATH_LEN];
   PetscInt        krylov_total, substeps_total;
 };
 
-/* Set by SIGTERM / SIGUSR1 (what batch schedulers send before a time limit). */
+/* The signal received, SIGTERM or SIGUSR1 (what batch schedulers send before a time limit); 0: none. */
 static volatile sig_atomic_t termination_requested = 0;
 
 static void RequestTermination(int signum)
 {
-  (void)signum;
-  termination_requested = 1;
+  termination_requested = signum;
 }
 
 static double WallTime(void)
@@ -47,6 +54,10 @@ PetscErrorCode ClothRunCreate(MPI_Comm comm, Scene scene, ClothRun *run)
 
   PetscFunctionBeginUser;
   PetscCall(ClothLogRegister());
+  /* From here on (replacing PETSc's handlers, which abort) a termination signal, even during set-up,
+     stops the run after its next step with a checkpoint. */
+  signal(SIGTERM, RequestTermination);
+  signal(SIGUSR1, RequestTermination);
   PetscCall(PetscNew(&r));
   r->comm             = comm;
   r->scene            = scene;
@@ -59,7 +70,13 @@ PetscErrorCode ClothRunCreate(MPI_Comm comm, Scene scene, ClothRun *run)
   r->progress_seconds = 2.0;
   PetscCall(PetscSNPrintf(r->output_dir, sizeof(r->output_dir), "output/%s", scene->name));
   PetscCall(ClothCreate(comm, scene, &r->cloth));
+  PetscCall(ClothSetViewPartitionSummary(r->cloth, PETSC_TRUE)); /* users of a parallel run see how it was split */
   PetscCall(ClothIntegratorCreate(r->cloth, &r->integrator));
+  PetscCall(ClothSelfContactCreate(r->cloth, &r->self_contact));
+  if (scene->nbodies) {
+    PetscCall(ClothCollisionCreate(r->cloth, scene, &r->collision));
+    PetscCall(ClothIntegratorSetCollision(r->integrator, r->collision));
+  }
   if (scene->run.integrator[0]) PetscCall(ClothIntegratorSetType(r->integrator, scene->run.integrator));
   *run = r;
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -73,7 +90,7 @@ PetscErrorCode ClothRunSetFromOptions(ClothRun run)
   PetscFunctionBeginUser;
   PetscOptionsBegin(run->comm, NULL, "Run (how the scene is simulated)", "ClothRun");
   PetscCall(PetscOptionsInt("-grid", "Particles per side of a scene made of one rectangular piece", "SceneSetGridSize", grid, &grid, &set_grid));
-  PetscCall(PetscOptionsReal("-dt", "Time step, s", "ClothRunSolve", run->dt, &run->dt, NULL));
+  PetscCall(PetscOptionsReal("-dt", "Time step, s (default on -restart: the checkpoint's)", "ClothRunSolve", run->dt, &run->dt, &run->dt_set));
   PetscCall(PetscOptionsReal("-t_final", "Simulated time to reach, s", "ClothRunSolve", run->t_final, &run->t_final, &set_tfinal));
   PetscCall(PetscOptionsInt("-steps", "Number of steps (instead of -t_final)", "ClothRunSolve", run->steps, &run->steps, &set_steps));
   PetscCall(PetscOptionsString("-output_dir", "Directory for the XDMF series and checkpoints", "ClothRunSetUp", run->output_dir, run->output_dir, sizeof(run->output_dir), NULL));
@@ -91,12 +108,11 @@ PetscErrorCode ClothRunSetFromOptions(ClothRun run)
     PetscCall(SceneSetGridSize(run->scene, grid));
   }
   if (set_tfinal && !set_steps) run->steps = 0;
-  if (run->steps == 0) {
-    PetscCheck(run->t_final > 0, run->comm, PETSC_ERR_USER_INPUT, "-t_final must be positive, got %g", (double)run->t_final);
-    run->steps = (PetscInt)PetscFloorReal(run->t_final / run->dt + 0.5);
-  }
+  if (run->steps == 0) PetscCheck(run->t_final > 0, run->comm, PETSC_ERR_USER_INPUT, "-t_final must be positive, got %g", (double)run->t_final);
   PetscCall(ClothSetFromOptions(run->cloth));
   PetscCall(ClothIntegratorSetFromOptions(run->integrator));
+  PetscCall(ClothSelfContactSetFromOptions(run->self_contact));
+  if (run->collision) PetscCall(ClothCollisionSetFromOptions(run->collision));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -112,6 +128,8 @@ static PetscErrorCode ClothRunFillCheckpointInfo(ClothRun run, ClothCheckpointIn
   info->step              = run->step;
   info->time              = run->time;
   info->dt                = run->dt;
+  info->dt_start_step     = run->dt_start_step;
+  info->dt_start_time     = run->dt_start_time;
   info->scene_fingerprint = run->scene->fingerprint;
   info->nparticles        = nglobal;
   PetscCall(PetscStrncpy(info->integrator, type, sizeof(info->integrator)));
@@ -119,20 +137,96 @@ static PetscErrorCode ClothRunFillCheckpointInfo(ClothRun run, ClothCheckpointIn
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* The checkpoint fields, in natural order: position, velocity, the implicit integrator's warm start
+   (without which a restarted run's first Krylov solves would start from zero and differ from an
+   uninterrupted run's at the solver tolerance; left out with with_dv false) and, in scenes with bodies,
+   the contact normals of the particles held on a body (the constraints of the next step). A field new
+   state adds goes here. */
+static PetscErrorCode ClothRunCheckpointFields(ClothRun run, PetscBool with_dv, ClothCheckpointField fields[4], PetscInt *nfields)
+{
+  PetscInt n = 0;
+
+  PetscFunctionBeginUser;
+  fields[n++] = (ClothCheckpointField){"position", run->natural_position, PETSC_TRUE, PETSC_FALSE};
+  fields[n++] = (ClothCheckpointField){"velocity", run->natural_velocity, PETSC_TRUE, PETSC_FALSE};
+  if (with_dv) fields[n++] = (ClothCheckpointField){"implicit_dv", run->natural_dv, PETSC_FALSE, PETSC_FALSE};
+  if (run->natural_contact) fields[n++] = (ClothCheckpointField){"contact_normal", run->natural_contact, PETSC_FALSE, PETSC_FALSE};
+  *nfields = n;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The step and integrator of a restart: the checkpoint's, unless -dt / -integrator say otherwise, in
+   which case the continued run cannot be the same as an uninterrupted one, and the user is told. */
+static PetscErrorCode ClothRunAdoptCheckpointSettings(ClothRun run, const ClothCheckpointInfo *info)
+{
+  const char *type;
+  PetscBool   integrator_set, same_type;
+
+  PetscFunctionBeginUser;
+  if (!run->dt_set) run->dt = info->dt;
+  if (run->dt == info->dt) {
+    run->dt_start_step = (PetscInt)info->dt_start_step;
+    run->dt_start_time = info->dt_start_time;
+  } else {
+    run->dt_start_step = run->step;
+    run->dt_start_time = run->time;
+    PetscCall(PetscFPrintf(run->comm, PETSC_STDERR, "WARNING: -dt %g differs from the step %g of checkpoint %s: the run continues with -dt from t = %.6f s\n", (double)run->dt, (double)info->dt, run->restart, (double)run->time));
+  }
+  PetscCall(PetscOptionsHasName(NULL, NULL, "-integrator", &integrator_set));
+  PetscCall(ClothIntegratorGetType(run->integrator, &type));
+  PetscCall(PetscStrcmp(type, info->integrator, &same_type));
+  if (!same_type && !integrator_set) PetscCall(ClothIntegratorSetType(run->integrator, info->integrator));
+  else if (!same_type) PetscCall(PetscFPrintf(run->comm, PETSC_STDERR, "WARNING: -integrator %s differs from the integrator %s of checkpoint %s: the run continues with %s, so it will not match an uninterrupted run\n", type, info->integrator, run->restart, type));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Reads the checkpoint of -restart: the state and the run's position in time. The integrator is not
+   set up yet, so that it can take the checkpoint's type; its warm start follows in ClothRunRestoreWarmStart. */
 static PetscErrorCode ClothRunRestore(ClothRun run)
 {
-  ClothCheckpointInfo expect, info;
-  Vec                 x, v;
+  ClothCheckpointInfo  expect, info;
+  ClothCheckpointField fields[4];
+  PetscInt             nfields;
+  Vec                  x, v, normals;
 
   PetscFunctionBeginUser;
   PetscCall(ClothRunFillCheckpointInfo(run, &expect));
-  PetscCall(ClothCheckpointRead(run->comm, run->restart, &expect, &info, run->natural_position, run->natural_velocity));
+  PetscCall(ClothRunCheckpointFields(run, PETSC_TRUE, fields, &nfields));
+  PetscCall(PetscLogEventBegin(ClothLog.checkpoint_read, 0, 0, 0, 0));
+  PetscCall(ClothCheckpointRead(run->comm, run->restart, &expect, &info, nfields, fields));
+  PetscCall(PetscLogEventEnd(ClothLog.checkpoint_read, 0, 0, 0, 0));
   PetscCall(ClothGetState(run->cloth, &x, &v));
   PetscCall(ClothScatterToNatural(run->cloth, x, run->natural_position, SCATTER_REVERSE));
   PetscCall(ClothScatterToNatural(run->cloth, v, run->natural_velocity, SCATTER_REVERSE));
+  if (!fields[2].found) PetscCall(VecZeroEntries(run->natural_dv)); /* written by another integrator: no warm start */
+  if (run->natural_contact && fields[3].found) {
+    PetscCall(ClothGetContactNormals(run->cloth, &normals));
+    PetscCall(ClothScatterToNatural(run->cloth, normals, run->natural_contact, SCATTER_REVERSE));
+  }
   run->step = (PetscInt)info.step;
   run->time = info.time;
-  PetscCall(PetscPrintf(run->comm, "Restarting from %s: step %" PetscInt_FMT ", t = %.6f s (written by integrator %s)\n", run->restart, run->step, (double)run->time, info.integrator));
+  PetscCall(ClothRunAdoptCheckpointSettings(run, &info));
+  PetscCall(PetscPrintf(run->comm, "Restarting from %s: step %" PetscInt_FMT ", t = %.6f s, dt = %g s (written by integrator %s, %s)\n", run->restart, run->step, (double)run->time, (double)info.dt, info.integrator, fields[2].found ? "with its warm start" : "without a warm start"));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The implicit integrator's warm start from the checkpoint (zero when the checkpoint had none). */
+static PetscErrorCode ClothRunRestoreWarmStart(ClothRun run)
+{
+  Vec dv;
+
+  PetscFunctionBeginUser;
+  PetscCall(ClothIntegratorGetWarmStart(run->integrator, &dv));
+  if (dv) PetscCall(ClothScatterToNatural(run->cloth, dv, run->natural_dv, SCATTER_REVERSE));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The last step of the run: -steps, or -t_final reached with the step in use (counted from where that
+   step came into use, so that a restart with another -dt still ends at t_final). */
+static PetscErrorCode ClothRunResolveSteps(ClothRun run)
+{
+  PetscFunctionBeginUser;
+  if (run->steps == 0) run->steps = run->dt_start_step + (PetscInt)PetscFloorReal((run->t_final - run->dt_start_time) / run->dt + 0.5);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -150,18 +244,54 @@ static PetscErrorCode ClothRunOpenOutput(ClothRun run)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* The mesh bodies (the mannequin) go into the XDMF series beside the fabric, in metres as simulated. */
+static PetscErrorCode ClothRunAddBodyMeshes(ClothRun run)
+{
+  PetscInt    nbodies;
+  const Body *bodies;
+
+  PetscFunctionBeginUser;
+  if (!run->collision) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(ClothCollisionGetBodies(run->collision, &nbodies, &bodies));
+  for (PetscInt b = 0; b < nbodies; b++) {
+    const SceneBody     *d;
+    const MeshTriangles *mesh;
+
+    PetscCall(BodyGetDescription(bodies[b], &d));
+    if (d->type != SCENE_BODY_MESH) continue;
+    PetscCall(BodyGetMesh(bodies[b], &mesh, NULL, NULL, NULL));
+    PetscCall(ClothOutputAddStaticMesh(run->output, d->name, mesh->nverts, mesh->coords, mesh->ntris, mesh->tris));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode ClothRunSetUp(ClothRun run)
 {
   PetscFunctionBeginUser;
   PetscCall(PetscLogStagePush(ClothLog.stage_setup));
   PetscCall(ClothSetUp(run->cloth));
-  PetscCall(ClothIntegratorSetUp(run->integrator));
+  if (run->collision) PetscCall(ClothCollisionSetUp(run->collision)); /* reads meshes, pushes out particles that start inside */
+  {
+    PetscBool self_collision;
+    PetscCall(ClothSelfContactGetEnabled(run->self_contact, &self_collision));
+    if (self_collision) { /* before the integrator creates the matrix, which holds the contacts' blocks */
+      PetscCall(ClothSelfContactSetUp(run->self_contact));
+      PetscCall(ClothSetSelfContact(run->cloth, run->self_contact));
+    }
+  }
   PetscCall(ClothCreateNaturalVec(run->cloth, &run->natural_position));
   PetscCall(ClothCreateNaturalVec(run->cloth, &run->natural_velocity));
+  PetscCall(ClothCreateNaturalVec(run->cloth, &run->natural_dv));
+  if (run->collision) PetscCall(ClothCreateNaturalVec(run->cloth, &run->natural_contact));
+  PetscCall(ClothCreateStrainVec(run->cloth, &run->natural_strain));
   PetscCall(PetscObjectSetName((PetscObject)run->natural_position, "position"));
   PetscCall(PetscObjectSetName((PetscObject)run->natural_velocity, "velocity"));
   if (run->restart[0]) PetscCall(ClothRunRestore(run));
+  PetscCall(ClothIntegratorSetUp(run->integrator));
+  if (run->restart[0]) PetscCall(ClothRunRestoreWarmStart(run));
+  PetscCall(ClothRunResolveSteps(run));
   PetscCall(ClothRunOpenOutput(run));
+  PetscCall(ClothRunAddBodyMeshes(run));
   PetscCall(PetscLogStagePop());
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -179,10 +309,14 @@ static PetscErrorCode ClothRunGatherNatural(ClothRun run)
 
 static PetscErrorCode ClothRunWriteFrame(ClothRun run)
 {
+  Vec x;
+
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(ClothLog.output, 0, 0, 0, 0));
   PetscCall(ClothRunGatherNatural(run));
-  PetscCall(ClothOutputWriteFrame(run->output, run->step, run->time, run->natural_position, run->natural_velocity));
+  PetscCall(ClothGetState(run->cloth, &x, NULL));
+  PetscCall(ClothComputeStrain(run->cloth, x, run->natural_strain));
+  PetscCall(ClothOutputWriteFrame(run->output, run->step, run->time, run->natural_position, run->natural_velocity, run->natural_strain));
   PetscCall(PetscLogEventEnd(ClothLog.output, 0, 0, 0, 0));
   if (run->monitor_energy) {
     ClothEnergy e;
@@ -196,13 +330,23 @@ static PetscErrorCode ClothRunWriteFrame(ClothRun run)
 
 static PetscErrorCode ClothRunWriteCheckpoint(ClothRun run)
 {
-  ClothCheckpointInfo info;
+  ClothCheckpointInfo  info;
+  ClothCheckpointField fields[4];
+  PetscInt             nfields;
+  Vec                  dv, normals;
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(ClothLog.checkpoint, 0, 0, 0, 0));
   PetscCall(ClothRunGatherNatural(run));
+  PetscCall(ClothIntegratorGetWarmStart(run->integrator, &dv));
+  if (dv) PetscCall(ClothScatterToNatural(run->cloth, dv, run->natural_dv, SCATTER_FORWARD));
+  if (run->natural_contact) {
+    PetscCall(ClothGetContactNormals(run->cloth, &normals));
+    PetscCall(ClothScatterToNatural(run->cloth, normals, run->natural_contact, SCATTER_FORWARD));
+  }
+  PetscCall(ClothRunCheckpointFields(run, dv ? PETSC_TRUE : PETSC_FALSE, fields, &nfields));
   PetscCall(ClothRunFillCheckpointInfo(run, &info));
-  PetscCall(ClothCheckpointWrite(run->comm, run->output_dir, &info, run->natural_position, run->natural_velocity, run->checkpoint_keep, run->last_checkpoint, sizeof(run->last_checkpoint)));
+  PetscCall(ClothCheckpointWrite(run->comm, run->output_dir, &info, nfields, fields, run->checkpoint_keep, run->last_checkpoint, sizeof(run->last_checkpoint)));
   PetscCall(PetscLogEventEnd(ClothLog.checkpoint, 0, 0, 0, 0));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -219,11 +363,25 @@ static PetscErrorCode ClothRunProgress(ClothRun run, PetscInt first_step, double
 /* Has any rank received a termination signal? Collective. */
 static PetscErrorCode TerminationRequested(MPI_Comm comm, PetscBool *requested)
 {
-  int local = termination_requested ? 1 : 0, global;
+  int local = termination_requested, global;
 
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Allreduce(&local, &global, 1, MPI_INT, MPI_MAX, comm));
   *requested = global ? PETSC_TRUE : PETSC_FALSE;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The frame of the starting state, when the series has no frame yet: a new run, or a restart into
+   another output directory. A restart that continues its series does not add one: the frame at the
+   restart step is already there when it was an output step, and must not be when it was not, so that
+   the series is the same as an uninterrupted run's. */
+static PetscErrorCode ClothRunWriteFirstFrame(ClothRun run)
+{
+  PetscInt nframes;
+
+  PetscFunctionBeginUser;
+  PetscCall(ClothOutputGetFrames(run->output, &nframes, NULL, NULL));
+  if (nframes == 0) PetscCall(ClothRunWriteFrame(run));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -236,16 +394,14 @@ PetscErrorCode ClothRunSolve(ClothRun run)
   ClothStepStats stats = {0, 0, run->dt};
 
   PetscFunctionBeginUser;
-  signal(SIGTERM, RequestTermination);
-  signal(SIGUSR1, RequestTermination);
   PetscCall(PetscPrintf(run->comm, "Running %s: %" PetscInt_FMT " steps of %g s from step %" PetscInt_FMT "; output in %s\n", run->scene->name, run->steps, (double)run->dt, run->step, run->output_dir));
-  if (!run->restart[0]) PetscCall(ClothRunWriteFrame(run));
+  PetscCall(ClothRunWriteFirstFrame(run));
   PetscCall(PetscLogStagePush(ClothLog.stage_steps));
   while (run->step < run->steps && !stop) {
     PetscCall(ClothIntegratorStep(run->integrator, run->dt, &ok, &stats));
     if (!ok) break;
     run->step++;
-    run->time = run->dt * run->step;
+    run->time = run->dt_start_time + run->dt * (PetscReal)(run->step - run->dt_start_step);
     run->krylov_total += stats.krylov_iterations;
     run->substeps_total += stats.substeps;
     if ((run->output_every > 0 && run->step % run->output_every == 0) || run->step == run->steps) PetscCall(ClothRunWriteFrame(run));
@@ -258,9 +414,17 @@ PetscErrorCode ClothRunSolve(ClothRun run)
   }
   PetscCall(PetscLogStagePop());
   PetscCall(ClothRunWriteCheckpoint(run));
-  PetscCheck(ok, run->comm, PETSC_ERR_NOT_CONVERGED, "Step %" PetscInt_FMT " failed (Krylov solver diverged or the state became non-finite) even after halving the step down to %g s; the last good state (step %" PetscInt_FMT ") is in %s", run->step + 1, (double)stats.smallest_dt, run->step, run->last_checkpoint);
-  if (stop) PetscCall(PetscPrintf(run->comm, "Stopped by a termination signal at step %" PetscInt_FMT "; checkpoint %s\n", run->step, run->last_checkpoint));
+  PetscCheck(ok, run->comm, PETSC_ERR_NOT_CONVERGED, "Step %" PetscInt_FMT " failed (Krylov solver diverged or the state became non-finite) even with the step halved down to %g s; the last good state (step %" PetscInt_FMT ") is in %s", run->step + 1, (double)stats.smallest_dt, run->step, run->last_checkpoint);
+  if (stop) PetscCall(PetscPrintf(run->comm, "Stopped by %s at step %" PetscInt_FMT " of %" PetscInt_FMT " (t = %g s) after finishing the step; the state is in %s: continue with -restart %s\n", termination_requested == SIGUSR1 ? "SIGUSR1" : "SIGTERM", run->step, run->steps, (double)run->time,
+                             run->last_checkpoint, run->last_checkpoint));
   PetscCall(PetscPrintf(run->comm, "Done: %" PetscInt_FMT " steps (%" PetscInt_FMT " sub-steps), %" PetscInt_FMT " Krylov iterations, %.2f s wall. Results: %s/%s.xdmf (open in ParaView), checkpoint %s\n", run->step - first_step, run->substeps_total, run->krylov_total, WallTime() - start, run->output_dir, run->scene->name, run->last_checkpoint));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothRunGetCollision(ClothRun run, ClothCollision *collision)
+{
+  PetscFunctionBeginUser;
+  *collision = run->collision;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -287,9 +451,14 @@ PetscErrorCode ClothRunDestroy(ClothRun *run)
   if (!r) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(ClothOutputDestroy(&r->output));
   PetscCall(ClothIntegratorDestroy(&r->integrator));
+  PetscCall(ClothCollisionDestroy(&r->collision));
   PetscCall(ClothDestroy(&r->cloth));
+  PetscCall(ClothSelfContactDestroy(&r->self_contact)); /* after the cloth, which borrows it */
   PetscCall(VecDestroy(&r->natural_position));
   PetscCall(VecDestroy(&r->natural_velocity));
+  PetscCall(VecDestroy(&r->natural_dv));
+  PetscCall(VecDestroy(&r->natural_contact));
+  PetscCall(VecDestroy(&r->natural_strain));
   PetscCall(PetscFree(*run));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -14,5 +14,7 @@ PetscErrorCode ClothRunSetUp(ClothRun run);
 /* Runs the time loop to the end (or to a termination signal); always writes a final checkpoint. */
 PetscErrorCode ClothRunSolve(ClothRun run);
 PetscErrorCode ClothRunGetCloth(ClothRun run, Cloth *cloth);
+/* The collision handler (borrowed; NULL when the scene has no bodies). */
+PetscErrorCode ClothRunGetCollision(ClothRun run, ClothCollision *collision);
 PetscErrorCode ClothRunGetStep(ClothRun run, PetscInt *step, PetscReal *time);
 PetscErrorCode ClothRunDestroy(ClothRun *run);

@@ -16,6 +16,8 @@
          damping: 0.0                 # 1/s, default 0, >= 0
          repulsion: 0.0               # fraction of rest length, in [0, 1), default 0 (off)
          repulsion_stiffness: 10      # relative to the stretch stiffness, default 10, >= 0
+         # also: preset: NAME (a measured fabric, fabric_presets.h) or kes: {W, B_warp, ...} (KES-F units,
+         # fabric.h) as defaults for the keys above; stretch_knee[_warp|_weft] + stretch_stiff[_warp|_weft] (biphasic)
      pieces:                          # required, list, at least one
        - name: sheet                  # required, unique
          fabric: net                  # required, a key of fabrics
@@ -26,6 +28,8 @@
          v_axis: [0, 0, 1]            # default [0, 1, 0]; nonzero, normalised, orthogonal to u_axis
          mass: uniform                # area | uniform (default area)
          pins: [[0, 0], [-1, 0]]      # optional list of [i, j]; negative counts from the end (-1 = last)
+         # instead of size: boundaries: {bottom, right, top, left: polyline [[u, v], ...] or arc {center, radius,
+         # from, to, segments}, nodes: [b, r, t, l]} (pattern.h); pin_disc: {center, radius}, pin_box: {min, max}
      run:                             # optional defaults for run-level options (command-line options override)
        integrator: implicit           # explicit | symplectic | implicit
        dt: 0.004166666666666667       # s, > 0
@@ -54,6 +58,9 @@
 #include <petscviewer.h>
 #include <yaml.h>
 #include "scene.h"
+#include "fabric_presets.h"
+#include "fabric.h"
+#include "pattern.h"
 
 const char *const ClothShearModels[]       = {"link", "angle", "ClothShearModel", "CLOTH_SHEAR_", NULL};
 const char *const ClothBendModels[]        = {"link", "angle", "ClothBendModel", "CLOTH_BEND_", NULL};
@@ -63,10 +70,27 @@ const char *const ClothMassDistributions[] = {"area", "uniform", "ClothMassDistr
 static const char *const SceneIntegrators[] = {"explicit", "symplectic", "implicit", "SceneIntegrator", "SCENE_INTEGRATOR_", NULL};
 
 /* Allowed keys per block (NULL-terminated). */
-static const char *const SceneTopKeys[]    = {"name", "gravity", "fabrics", "pieces", "run", NULL};
-static const char *const SceneFabricKeys[] = {"density", "stretch", "stretch_warp", "stretch_weft", "shear", "shear_model", "bend", "bend_warp", "bend_weft", "bend_model", "damping", "repulsion", "repulsion_stiffness", NULL};
-static const char *const ScenePieceKeys[]  = {"name", "fabric", "grid", "size", "origin", "u_axis", "v_axis", "mass", "pins", NULL};
+static const char *const SceneTopKeys[]    = {"name", "gravity", "fabrics", "pieces", "run", "bodies", "self_collision", "seams", "sewing", NULL};
+static const char *const SceneFabricKeys[] = {"preset", "kes", "density", "stretch", "stretch_warp", "stretch_weft", "stretch_knee", "stretch_knee_warp", "stretch_knee_weft", "stretch_stiff", "stretch_stiff_warp", "stretch_stiff_weft", "shear", "shear_model", "bend", "bend_warp", "bend_weft", "bend_model", "damping", "repulsion", "repulsion_stiffness", NULL};
+static const char *const ScenePieceKeys[]  = {"name", "fabric", "grid", "size", "boundaries", "origin", "u_axis", "v_axis", "mass", "pins", "pin_disc", "pin_box", NULL};
+static const char *const SceneBoundaryKeys[] = {"bottom", "right", "top", "left", "nodes", NULL}; /* bottom, right, top, left: the order of ScenePiece.boundary_* */
+static const char *const SceneKESKeys[]      = {"W", "B_warp", "B_weft", "G", "EMT_warp", "EMT_weft", "LT_warp", "LT_weft", NULL};
+static const char *const SceneArcKeys[]      = {"center", "radius", "from", "to", "segments", NULL};
+static const char *const ScenePinDiscKeys[]  = {"center", "radius", NULL};
+static const char *const ScenePinBoxKeys[]   = {"min", "max", NULL};
 static const char *const SceneRunKeys[]    = {"integrator", "dt", "t_final", "steps", "output_every", "checkpoint_every", NULL};
+static const char *const SceneBodyKeys[]   = {"name", "type", "center", "radius", "point", "normal", "file", "scale", "rotation", "translation", "friction", "thickness", NULL};
+static const char *const SceneFrictionKeys[] = {"static", "kinetic", NULL};
+static const char *const SceneSeamKeys[]       = {"name", "a", "b", "bend", NULL};
+static const char *const SceneSeamSideKeys[]   = {"piece", "side", "from", "to", NULL};
+static const char *const SceneSewingKeys[]     = {"pull_acceleration", "pull_radius", "sewn_stiffness", "tolerance", "max_time", NULL};
+const char *const        ClothPieceSides[]     = {"bottom", "right", "top", "left", "ClothPieceSide", "CLOTH_SIDE_", NULL};
+static const char *const SceneSelfCollisionKeys[] = {"enabled", "thickness", "stiffness", "exclude_ring", "same_piece", NULL};
+/* YAML booleans, in the enum-list style of ReadChoice (index 0 = false, 1 = true). */
+static const char *const SceneBooleans[] = {"false", "true", "SceneBoolean", "SCENE_BOOLEAN_", NULL};
+/* The keys that only one type of body uses, per SceneBodyType (NULL-terminated). */
+static const char *const SceneBodyTypeKeys[][5] = {{"center", "radius", NULL}, {"point", "normal", NULL}, {"file", "scale", "rotation", "translation", NULL}};
+const char *const SceneBodyTypes[] = {"sphere", "plane", "mesh", "SceneBodyType", "SCENE_BODY_", NULL};
 
 #define SCENE_ORTHOGONALITY_TOL 1e-6
 #define SCENE_TEXT_LEN 1024    /* room for an expectation or a description in a message */
@@ -516,9 +540,67 @@ static PetscErrorCode ReadWarpWeft(SceneReader *r, yaml_node_t *map, const char 
     PetscCall(SceneFailMissing(r, map, key, "%s, or both %s and %s", expected, key_warp, key_weft));
   }
   PetscCall(ReadReal(r, map, key, PETSC_FALSE, range, unit, warp));
-  *weft = *warp;
+  if (has) *weft = *warp; /* otherwise both keep their defaults (a preset's may differ) */
   PetscCall(ReadReal(r, map, key_warp, PETSC_FALSE, range, unit, warp));
   PetscCall(ReadReal(r, map, key_weft, PETSC_FALSE, range, unit, weft));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* preset: the name of a measured fabric (fabric_presets.h); its values become the defaults of the other keys. */
+static PetscErrorCode ReadFabricPreset(SceneReader *r, yaml_node_t *map, SceneFabric *fabric)
+{
+  char         names[SCENE_TEXT_LEN];
+  yaml_node_t *node  = NULL;
+  PetscBool    found = PETSC_FALSE;
+
+  PetscFunctionBeginUser;
+  PetscCall(ReadString(r, map, "preset", PETSC_FALSE, fabric->preset, sizeof(fabric->preset), &node));
+  if (!node) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(FabricPresetApply(fabric->preset, fabric, &found));
+  if (!found) {
+    PetscCall(FabricPresetListNames(names, sizeof(names)));
+    PetscCall(SceneFailValue(r, node, "preset", "the name of a measured fabric, one of %s", names));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* kes: {W, B_warp, B_weft, G, EMT_warp, EMT_weft, LT_warp, LT_weft} in KES-F units (fabric.h); the values it
+   maps to become the defaults of the other keys, like a preset's. */
+static PetscErrorCode ReadFabricKES(SceneReader *r, yaml_node_t *map, SceneFabric *fabric)
+{
+  FabricKES    kes = {0};
+  yaml_node_t *node;
+
+  PetscFunctionBeginUser;
+  PetscCall(SceneGetValue(r, map, "kes", &node));
+  if (!node) PetscFunctionReturn(PETSC_SUCCESS);
+  if (fabric->preset[0]) PetscCall(SceneFailValue(r, node, "kes", "no kes block together with a preset (give one of them)"));
+  PetscCall(SceneExpectMap(r, node, "kes", SceneKESKeys, NULL));
+  PetscCall(ReadReal(r, node, "W", PETSC_TRUE, SCENE_REAL_POSITIVE, "mg/cm^2", &kes.weight));
+  PetscCall(ReadReal(r, node, "B_warp", PETSC_TRUE, SCENE_REAL_NONNEGATIVE, "gf cm^2/cm", &kes.bend_warp));
+  PetscCall(ReadReal(r, node, "B_weft", PETSC_TRUE, SCENE_REAL_NONNEGATIVE, "gf cm^2/cm", &kes.bend_weft));
+  PetscCall(ReadReal(r, node, "G", PETSC_TRUE, SCENE_REAL_NONNEGATIVE, "gf/cm/degree", &kes.shear));
+  PetscCall(ReadReal(r, node, "EMT_warp", PETSC_TRUE, SCENE_REAL_POSITIVE, "%", &kes.emt_warp));
+  PetscCall(ReadReal(r, node, "EMT_weft", PETSC_TRUE, SCENE_REAL_POSITIVE, "%", &kes.emt_weft));
+  PetscCall(ReadReal(r, node, "LT_warp", PETSC_FALSE, SCENE_REAL_POSITIVE, NULL, &kes.lt_warp));
+  PetscCall(ReadReal(r, node, "LT_weft", PETSC_FALSE, SCENE_REAL_POSITIVE, NULL, &kes.lt_weft));
+  if ((kes.lt_warp > 0) != (kes.lt_weft > 0) || (kes.lt_warp > 0 && (kes.lt_warp <= 0.5 || kes.lt_warp >= 1.5 || kes.lt_weft <= 0.5 || kes.lt_weft >= 1.5)))
+    PetscCall(SceneFailValue(r, node, "kes", "LT_warp and LT_weft both given or both absent, each in (0.5, 1.5) (a biphasic curve with its knee at EMT/2)"));
+  PetscCall(FabricSetFromKES(&kes, fabric));
+  PetscCall(PetscStrncpy(fabric->preset, "kes", sizeof(fabric->preset)));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Biphasic tensile curve: stretch_knee[_warp|_weft] (strain) and stretch_stiff[_warp|_weft] (modulus beyond it, default: stretch). */
+static PetscErrorCode ReadStretchCurve(SceneReader *r, yaml_node_t *map, SceneFabric *fabric)
+{
+  PetscFunctionBeginUser;
+  if (fabric->stretch_knee_warp == 0 && fabric->stretch_knee_weft == 0) { /* no biphasic default: the stiff branch defaults to the (possibly overridden) modulus */
+    fabric->stretch_stiff_warp = fabric->stretch_warp;
+    fabric->stretch_stiff_weft = fabric->stretch_weft;
+  }
+  PetscCall(ReadWarpWeft(r, map, "stretch_knee", PETSC_FALSE, SCENE_REAL_FRACTION, "strain", &fabric->stretch_knee_warp, &fabric->stretch_knee_weft));
+  PetscCall(ReadWarpWeft(r, map, "stretch_stiff", PETSC_FALSE, SCENE_REAL_POSITIVE, "N/m", &fabric->stretch_stiff_warp, &fabric->stretch_stiff_weft));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -533,8 +615,13 @@ static PetscErrorCode SceneReadFabric(SceneReader *r, yaml_node_t *name, yaml_no
   PetscCall(PetscSNPrintf(r->block, sizeof(r->block), "fabric '%s'", fabric->name));
   PetscCall(SceneExpectMap(r, map, NULL, SceneFabricKeys, NULL));
   fabric->repulsion_stiffness = 10;
-  PetscCall(ReadReal(r, map, "density", PETSC_TRUE, SCENE_REAL_POSITIVE, "kg/m^2", &fabric->density));
-  PetscCall(ReadWarpWeft(r, map, "stretch", PETSC_TRUE, SCENE_REAL_POSITIVE, "N/m", &fabric->stretch_warp, &fabric->stretch_weft));
+  PetscCall(ReadFabricPreset(r, map, fabric));
+  PetscCall(ReadFabricKES(r, map, fabric));
+  shear_model = fabric->shear_model; /* a preset's or the KES block's models are the defaults */
+  bend_model  = fabric->bend_model;
+  PetscCall(ReadReal(r, map, "density", fabric->preset[0] ? PETSC_FALSE : PETSC_TRUE, SCENE_REAL_POSITIVE, "kg/m^2", &fabric->density));
+  PetscCall(ReadWarpWeft(r, map, "stretch", fabric->preset[0] ? PETSC_FALSE : PETSC_TRUE, SCENE_REAL_POSITIVE, "N/m", &fabric->stretch_warp, &fabric->stretch_weft));
+  PetscCall(ReadStretchCurve(r, map, fabric));
   PetscCall(ReadReal(r, map, "shear", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "N/m", &fabric->shear));
   PetscCall(ReadChoice(r, map, "shear_model", PETSC_FALSE, ClothShearModels, &shear_model));
   PetscCall(ReadChoice(r, map, "bend_model", PETSC_FALSE, ClothBendModels, &bend_model));
@@ -654,6 +741,146 @@ static PetscErrorCode ReadAxes(SceneReader *r, yaml_node_t *map, ScenePiece *pie
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* One boundary: a polyline [[u, v], ...] of at least 2 vertices, or an arc {center, radius, from, to, segments}
+   (angles in degrees, counter-clockwise from the u axis; the arc runs from `from` to `to`). */
+static PetscErrorCode ReadBoundary(SceneReader *r, yaml_node_t *map, const char key[], PetscInt *npoints, PetscReal **points)
+{
+  const char        expected[] = "a polyline [[u, v], [u, v], ...] of at least 2 points (m), or an arc {center: [u, v], radius: r, from: degrees, to: degrees, segments: n}";
+  yaml_node_t      *node;
+  yaml_node_item_t *items = NULL;
+
+  PetscFunctionBeginUser;
+  PetscCall(SceneGetValueChecked(r, map, key, PETSC_TRUE, expected, &node));
+  if (node->type == YAML_MAPPING_NODE) {
+    PetscReal center[2], radius, from, to;
+    PetscInt  segments = 32;
+
+    PetscCall(SceneExpectMap(r, node, key, SceneArcKeys, expected));
+    PetscCall(ReadRealList(r, node, "center", PETSC_TRUE, 2, SCENE_REAL_ANY, "m", center));
+    PetscCall(ReadReal(r, node, "radius", PETSC_TRUE, SCENE_REAL_POSITIVE, "m", &radius));
+    PetscCall(ReadReal(r, node, "from", PETSC_TRUE, SCENE_REAL_ANY, "degrees", &from));
+    PetscCall(ReadReal(r, node, "to", PETSC_TRUE, SCENE_REAL_ANY, "degrees", &to));
+    PetscCall(ReadInt(r, node, "segments", PETSC_FALSE, 1, &segments));
+    *npoints = segments + 1;
+    PetscCall(PetscMalloc1(2 * *npoints, points));
+    for (PetscInt k = 0; k <= segments; k++) {
+      const PetscReal angle = (from + (to - from) * k / segments) * PETSC_PI / 180;
+
+      (*points)[2 * k]     = center[0] + radius * PetscCosReal(angle);
+      (*points)[2 * k + 1] = center[1] + radius * PetscSinReal(angle);
+    }
+  } else {
+    PetscCall(SceneGetItems(r, node, key, -1, expected, &items, npoints));
+    if (*npoints < 2) PetscCall(SceneFailValue(r, node, key, "%s", expected));
+    PetscCall(PetscMalloc1(2 * *npoints, points));
+    for (PetscInt k = 0; k < *npoints; k++) PetscCall(SceneParseRealList(r, yaml_document_get_node(r->doc, items[k]), key, 2, SCENE_REAL_ANY, expected, &(*points)[2 * k]));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The four boundaries must join at the corners: bottom and left start at (0, 0), bottom ends where right starts,
+   left ends where top starts, top and right end at the far corner. */
+static PetscErrorCode CheckBoundaryCorners(SceneReader *r, yaml_node_t *node, const ScenePiece *piece)
+{
+  /* {boundary, end (0 first, 1 last)} pairs that must coincide */
+  const PetscInt meet[4][4] = {{0, 0, 3, 0}, {0, 1, 1, 0}, {3, 1, 2, 0}, {2, 1, 1, 1}};
+  PetscReal      extent     = 0;
+
+  PetscFunctionBeginUser;
+  for (PetscInt b = 0; b < 4; b++)
+    for (PetscInt k = 0; k < 2 * piece->boundary_npoints[b]; k++) extent = PetscMax(extent, PetscAbsReal(piece->boundary_points[b][k]));
+  for (PetscInt c = 0; c < 4; c++) {
+    const PetscReal *p = &piece->boundary_points[meet[c][0]][meet[c][1] ? 2 * (piece->boundary_npoints[meet[c][0]] - 1) : 0];
+    const PetscReal *q = &piece->boundary_points[meet[c][2]][meet[c][3] ? 2 * (piece->boundary_npoints[meet[c][2]] - 1) : 0];
+
+    if (PetscSqrtReal(PetscSqr(p[0] - q[0]) + PetscSqr(p[1] - q[1])) > 1e-9 * PetscMax(extent, 1.0))
+      PetscCall(SceneFailValue(r, node, "boundaries", "boundaries that meet at the corners (bottom and left from corner (0, 0), bottom to right, left to top, right and top to the far corner); here the %s of %s is (%g, %g) but the %s of %s is (%g, %g)", meet[c][1] ? "end" : "start",
+                               SceneBoundaryKeys[meet[c][0]], (double)p[0], (double)p[1], meet[c][3] ? "end" : "start", SceneBoundaryKeys[meet[c][2]], (double)q[0], (double)q[1]));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* boundaries: {bottom, right, top, left: polylines or arcs, nodes: [bottom, right, top, left]} (MODEL.md section 3).
+   Sets *nodes_given when the node counts are given (they then set the grid). */
+static PetscErrorCode ReadBoundaries(SceneReader *r, yaml_node_t *map, ScenePiece *piece, PetscBool *nodes_given)
+{
+  yaml_node_t *node, *nodes;
+  PetscInt     count[4];
+
+  PetscFunctionBeginUser;
+  *nodes_given = PETSC_FALSE;
+  PetscCall(SceneGetValue(r, map, "boundaries", &node));
+  if (!node) PetscFunctionReturn(PETSC_SUCCESS);
+  piece->has_boundaries = PETSC_TRUE;
+  PetscCall(SceneExpectMap(r, node, "boundaries", SceneBoundaryKeys, NULL));
+  for (PetscInt b = 0; b < 4; b++) PetscCall(ReadBoundary(r, node, SceneBoundaryKeys[b], &piece->boundary_npoints[b], &piece->boundary_points[b]));
+  PetscCall(CheckBoundaryCorners(r, node, piece));
+  PetscCall(SceneGetValue(r, node, "nodes", &nodes));
+  if (!nodes) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(ReadIntList(r, node, "nodes", PETSC_TRUE, 4, 2, count));
+  if (count[0] != count[2] || count[1] != count[3])
+    PetscCall(SceneFailValue(r, nodes, "nodes", "node counts [bottom, right, top, left] with bottom = top and right = left (opposite boundaries carry the same threads); here bottom %" PetscInt_FMT ", top %" PetscInt_FMT ", right %" PetscInt_FMT ", left %" PetscInt_FMT, count[0], count[2], count[1], count[3]));
+  piece->grid_given[0] = count[0];
+  piece->grid_given[1] = count[1];
+  *nodes_given         = PETSC_TRUE;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* pin_disc: {center: [u, v], radius: r} and pin_box: {min: [u, v], max: [u, v]}, in pattern coordinates (m). */
+static PetscErrorCode ReadPinRegions(SceneReader *r, yaml_node_t *map, ScenePiece *piece)
+{
+  yaml_node_t *node;
+
+  PetscFunctionBeginUser;
+  PetscCall(SceneGetValue(r, map, "pin_disc", &node));
+  if (node) {
+    PetscCall(SceneExpectMap(r, node, "pin_disc", ScenePinDiscKeys, NULL));
+    PetscCall(ReadRealList(r, node, "center", PETSC_TRUE, 2, SCENE_REAL_ANY, "m", piece->pin_disc));
+    PetscCall(ReadReal(r, node, "radius", PETSC_TRUE, SCENE_REAL_POSITIVE, "m", &piece->pin_disc[2]));
+  }
+  PetscCall(SceneGetValue(r, map, "pin_box", &node));
+  if (node) {
+    PetscCall(SceneExpectMap(r, node, "pin_box", ScenePinBoxKeys, NULL));
+    PetscCall(ReadRealList(r, node, "min", PETSC_TRUE, 2, SCENE_REAL_ANY, "m", &piece->pin_box[0]));
+    PetscCall(ReadRealList(r, node, "max", PETSC_TRUE, 2, SCENE_REAL_ANY, "m", &piece->pin_box[2]));
+    if (!(piece->pin_box[2] > piece->pin_box[0] && piece->pin_box[3] > piece->pin_box[1])) PetscCall(SceneFailValue(r, node, "pin_box", "a box with max > min in both coordinates"));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* grid (required unless the boundaries give node counts, then it must agree) and size (rectangles only). */
+static PetscErrorCode ReadGridAndSize(SceneReader *r, yaml_node_t *map, ScenePiece *piece)
+{
+  PetscBool    nodes_given;
+  PetscInt     grid[2];
+  yaml_node_t *node;
+
+  PetscFunctionBeginUser;
+  PetscCall(ReadBoundaries(r, map, piece, &nodes_given));
+  grid[0] = piece->grid_given[0];
+  grid[1] = piece->grid_given[1];
+  PetscCall(ReadIntList(r, map, "grid", nodes_given ? PETSC_FALSE : PETSC_TRUE, 2, 2, grid));
+  if (nodes_given && (grid[0] != piece->grid_given[0] || grid[1] != piece->grid_given[1])) {
+    PetscCall(SceneGetValue(r, map, "grid", &node));
+    PetscCall(SceneFailValue(r, node, "grid", "[%" PetscInt_FMT ", %" PetscInt_FMT "], the node counts the boundaries give (bottom/top, left/right), or no grid", piece->grid_given[0], piece->grid_given[1]));
+  }
+  piece->grid_given[0] = piece->nu = grid[0];
+  piece->grid_given[1] = piece->nv = grid[1];
+  if (piece->has_boundaries) {
+    PetscInt  i, j;
+    PetscReal area;
+
+    PetscCall(PatternFindFoldedCell(piece, &i, &j, &area));
+    PetscCall(SceneGetValue(r, map, "boundaries", &node));
+    if (i >= 0)
+      PetscCall(SceneFailValue(r, node, "boundaries", "an outline whose %" PetscInt_FMT " x %" PetscInt_FMT " transfinite grid has no folded cell; cell (%" PetscInt_FMT ", %" PetscInt_FMT ") has area %g m^2: " PATTERN_FOLD_ADVICE, piece->nu, piece->nv, i, j, (double)area));
+  }
+  PetscCall(SceneGetValue(r, map, "size", &node));
+  if (node && piece->has_boundaries) PetscCall(SceneFailValue(r, node, "size", "no size when the piece has boundaries (its outline gives its size)"));
+  PetscCall(ReadRealList(r, map, "size", piece->has_boundaries ? PETSC_FALSE : PETSC_TRUE, 2, SCENE_REAL_POSITIVE, "m", piece->size));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 static PetscErrorCode SceneReadPiece(SceneReader *r, yaml_node_t *map, Scene scene, PetscInt index)
 {
   ScenePiece  *piece = &scene->pieces[index];
@@ -672,10 +899,7 @@ static PetscErrorCode SceneReadPiece(SceneReader *r, yaml_node_t *map, Scene sce
   }
   PetscCall(PetscSNPrintf(r->block, sizeof(r->block), "piece '%s'", piece->name));
   PetscCall(ReadFabricName(r, map, scene, piece));
-  PetscCall(ReadIntList(r, map, "grid", PETSC_TRUE, 2, 2, piece->grid_given));
-  piece->nu = piece->grid_given[0];
-  piece->nv = piece->grid_given[1];
-  PetscCall(ReadRealList(r, map, "size", PETSC_TRUE, 2, SCENE_REAL_POSITIVE, "m", piece->size));
+  PetscCall(ReadGridAndSize(r, map, piece));
   PetscCall(ReadRealList(r, map, "origin", PETSC_FALSE, 3, SCENE_REAL_ANY, "m", piece->origin));
   piece->u_axis[0] = 1;
   piece->v_axis[1] = 1;
@@ -683,6 +907,7 @@ static PetscErrorCode SceneReadPiece(SceneReader *r, yaml_node_t *map, Scene sce
   PetscCall(ReadChoice(r, map, "mass", PETSC_FALSE, ClothMassDistributions, &mass));
   piece->mass_distribution = (ClothMassDistribution)mass;
   PetscCall(ReadPins(r, map, piece));
+  PetscCall(ReadPinRegions(r, map, piece));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -728,6 +953,204 @@ static PetscErrorCode SceneReadRun(SceneReader *r, yaml_node_t *root, SceneRunDe
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* A key that belongs to another type of body is an error (a plane with a radius is a typo, not a default). */
+static PetscErrorCode SceneCheckBodyTypeKeys(SceneReader *r, yaml_node_t *map, const SceneBody *body)
+{
+  PetscFunctionBeginUser;
+  for (PetscInt t = 0; t < 3; t++) {
+    if (t == (PetscInt)body->type) continue;
+    for (PetscInt k = 0; SceneBodyTypeKeys[t][k]; k++) {
+      yaml_node_t *node;
+
+      PetscCall(SceneGetValue(r, map, SceneBodyTypeKeys[t][k], &node));
+      PetscCheck(!node, r->comm, PETSC_ERR_USER_INPUT, "scene %s, line %d: key '%s' in %s belongs to a %s body, not to a %s", r->path, SceneNodeLine(node), SceneBodyTypeKeys[t][k], r->block, SceneBodyTypes[t], SceneBodyTypes[body->type]);
+    }
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* friction: {static: mu_s, kinetic: mu_k}; kinetic defaults to static. */
+static PetscErrorCode ReadFriction(SceneReader *r, yaml_node_t *map, SceneBody *body)
+{
+  yaml_node_t *friction;
+
+  PetscFunctionBeginUser;
+  PetscCall(SceneGetValue(r, map, "friction", &friction));
+  if (!friction) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(SceneExpectMap(r, friction, "friction", SceneFrictionKeys, NULL));
+  PetscCall(ReadReal(r, friction, "static", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, NULL, &body->friction_static));
+  body->friction_kinetic = body->friction_static;
+  PetscCall(ReadReal(r, friction, "kinetic", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, NULL, &body->friction_kinetic));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* A mesh file given relative to the scene file's directory (absolute paths are kept). */
+static PetscErrorCode ReadBodyFile(SceneReader *r, yaml_node_t *map, SceneBody *body)
+{
+  char        file[CLOTH_PATH_LEN] = "";
+  const char *slash                = strrchr(r->path, '/');
+
+  PetscFunctionBeginUser;
+  PetscCall(ReadString(r, map, "file", PETSC_TRUE, file, sizeof(file), NULL));
+  if (file[0] == '/' || !slash) PetscCall(PetscStrncpy(body->file, file, sizeof(body->file)));
+  else PetscCall(PetscSNPrintf(body->file, sizeof(body->file), "%.*s/%s", (int)(slash - r->path), r->path, file));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode SceneReadBody(SceneReader *r, yaml_node_t *map, Scene scene, PetscInt index)
+{
+  SceneBody *body = &scene->bodies[index];
+  PetscInt   type = -1;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscSNPrintf(r->block, sizeof(r->block), "body %" PetscInt_FMT, index + 1));
+  PetscCall(SceneExpectMap(r, map, NULL, SceneBodyKeys, NULL));
+  PetscCall(PetscSNPrintf(body->name, sizeof(body->name), "body%" PetscInt_FMT, index + 1));
+  PetscCall(ReadString(r, map, "name", PETSC_FALSE, body->name, sizeof(body->name), NULL));
+  PetscCall(PetscSNPrintf(r->block, sizeof(r->block), "body '%s'", body->name));
+  PetscCall(ReadChoice(r, map, "type", PETSC_TRUE, SceneBodyTypes, &type));
+  body->type  = (SceneBodyType)type;
+  body->scale = 1;
+  body->normal[1] = 1;
+  PetscCall(SceneCheckBodyTypeKeys(r, map, body));
+  if (body->type == SCENE_BODY_SPHERE) {
+    PetscCall(ReadRealList(r, map, "center", PETSC_TRUE, 3, SCENE_REAL_ANY, "m", body->center));
+    PetscCall(ReadReal(r, map, "radius", PETSC_TRUE, SCENE_REAL_POSITIVE, "m", &body->radius));
+  } else if (body->type == SCENE_BODY_PLANE) {
+    PetscCall(ReadRealList(r, map, "point", PETSC_TRUE, 3, SCENE_REAL_ANY, "m", body->point));
+    PetscCall(ReadDirection(r, map, "normal", body->normal));
+  } else {
+    PetscCall(ReadBodyFile(r, map, body));
+    PetscCall(ReadReal(r, map, "scale", PETSC_FALSE, SCENE_REAL_POSITIVE, NULL, &body->scale));
+    PetscCall(ReadRealList(r, map, "rotation", PETSC_FALSE, 3, SCENE_REAL_ANY, "degrees", body->rotation));
+    PetscCall(ReadRealList(r, map, "translation", PETSC_FALSE, 3, SCENE_REAL_ANY, "m", body->translation));
+  }
+  PetscCall(ReadFriction(r, map, body));
+  PetscCall(ReadReal(r, map, "thickness", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "m", &body->thickness));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode SceneReadBodies(SceneReader *r, yaml_node_t *root, Scene scene)
+{
+  const char        expected[] = "a list of bodies (maps with a type: sphere, plane or mesh)";
+  yaml_node_t      *list;
+  yaml_node_item_t *items = NULL;
+
+  PetscFunctionBeginUser;
+  PetscCall(SceneGetValue(r, root, "bodies", &list));
+  if (!list) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(SceneGetItems(r, list, "bodies", -1, expected, &items, &scene->nbodies));
+  PetscCall(PetscCalloc1(scene->nbodies, &scene->bodies));
+  for (PetscInt b = 0; b < scene->nbodies; b++) PetscCall(SceneReadBody(r, yaml_document_get_node(r->doc, items[b]), scene, b));
+  r->block[0] = 0;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The optional self_collision: block (cloth-cloth contact, see selfcontact.h); thickness and stiffness are
+   required when it is enabled. */
+static PetscErrorCode SceneReadSelfCollision(SceneReader *r, yaml_node_t *root, SceneSelfCollision *self)
+{
+  yaml_node_t *map;
+  PetscInt     enabled = 0, same_piece = 1;
+
+  PetscFunctionBeginUser;
+  PetscCall(SceneGetValue(r, root, "self_collision", &map));
+  if (!map) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(SceneExpectMap(r, map, "self_collision", SceneSelfCollisionKeys, NULL));
+  PetscCall(PetscStrncpy(r->block, "self_collision", sizeof(r->block)));
+  self->given        = PETSC_TRUE;
+  self->exclude_ring = 1;
+  PetscCall(ReadChoice(r, map, "enabled", PETSC_FALSE, SceneBooleans, &enabled));
+  self->enabled = enabled ? PETSC_TRUE : PETSC_FALSE;
+  PetscCall(ReadReal(r, map, "thickness", self->enabled, SCENE_REAL_POSITIVE, "m", &self->thickness));
+  PetscCall(ReadReal(r, map, "stiffness", self->enabled, SCENE_REAL_POSITIVE, "N/m", &self->stiffness));
+  PetscCall(ReadInt(r, map, "exclude_ring", PETSC_FALSE, 0, &self->exclude_ring));
+  PetscCall(ReadChoice(r, map, "same_piece", PETSC_FALSE, SceneBooleans, &same_piece));
+  self->same_piece = same_piece ? PETSC_TRUE : PETSC_FALSE;
+  r->block[0]      = 0;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* A seam side: {piece: NAME, side: bottom|right|top|left, from: 0, to: 1}. */
+static PetscErrorCode SceneReadSeamSide(SceneReader *r, yaml_node_t *seam, const char key[], Scene scene, SceneSeamSide *side)
+{
+  yaml_node_t *map, *where;
+  char         name[CLOTH_NAME_LEN];
+  PetscInt     s = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(SceneGetValueChecked(r, seam, key, PETSC_TRUE, "a map {piece: NAME, side: bottom|right|top|left, from: 0, to: 1}", &map));
+  PetscCall(SceneExpectMap(r, map, key, SceneSeamSideKeys, NULL));
+  PetscCall(ReadString(r, map, "piece", PETSC_TRUE, name, sizeof(name), &where));
+  side->piece = -1;
+  for (PetscInt p = 0; p < scene->npieces; p++) {
+    PetscBool match;
+    PetscCall(PetscStrcmp(name, scene->pieces[p].name, &match));
+    if (match) side->piece = p;
+  }
+  if (side->piece < 0) PetscCall(SceneFailValue(r, where, "piece", "the name of a piece given under 'pieces'"));
+  PetscCall(ReadChoice(r, map, "side", PETSC_TRUE, ClothPieceSides, &s));
+  side->side = (ClothPieceSide)s;
+  side->from = 0;
+  side->to   = 1;
+  PetscCall(ReadReal(r, map, "from", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "fraction of the side's length", &side->from));
+  PetscCall(ReadReal(r, map, "to", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "fraction of the side's length", &side->to));
+  if (side->from > 1 || side->to > 1 || side->from == side->to) PetscCall(SceneFailValue(r, map, key, "from and to: two different fractions in [0, 1]"));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode SceneReadSeams(SceneReader *r, yaml_node_t *root, Scene scene)
+{
+  const char        expected[] = "a list of seams (maps with a, b and optionally name, bend)";
+  yaml_node_t      *list;
+  yaml_node_item_t *items = NULL;
+
+  PetscFunctionBeginUser;
+  PetscCall(SceneGetValue(r, root, "seams", &list));
+  if (!list) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(SceneGetItems(r, list, "seams", -1, expected, &items, &scene->nseams));
+  PetscCall(PetscCalloc1(scene->nseams, &scene->seams));
+  for (PetscInt k = 0; k < scene->nseams; k++) {
+    yaml_node_t *map  = yaml_document_get_node(r->doc, items[k]);
+    SceneSeam   *seam = &scene->seams[k];
+    PetscInt     bend = 1;
+
+    PetscCall(SceneExpectMap(r, map, "seams", SceneSeamKeys, NULL));
+    PetscCall(PetscSNPrintf(seam->name, sizeof(seam->name), "seam%" PetscInt_FMT, k));
+    PetscCall(ReadString(r, map, "name", PETSC_FALSE, seam->name, sizeof(seam->name), NULL));
+    PetscCall(PetscSNPrintf(r->block, sizeof(r->block), "seam '%s'", seam->name));
+    PetscCall(SceneReadSeamSide(r, map, "a", scene, &seam->a));
+    PetscCall(SceneReadSeamSide(r, map, "b", scene, &seam->b));
+    PetscCall(ReadChoice(r, map, "bend", PETSC_FALSE, SceneBooleans, &bend));
+    seam->bend = bend ? PETSC_TRUE : PETSC_FALSE;
+  }
+  r->block[0] = 0;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode SceneReadSewing(SceneReader *r, yaml_node_t *root, SceneSewing *sewing)
+{
+  yaml_node_t *map;
+
+  PetscFunctionBeginUser;
+  sewing->pull_acceleration = 9.81;
+  sewing->pull_radius       = 0.01;
+  sewing->sewn_stiffness    = 2000;
+  sewing->tolerance         = 0.002;
+  sewing->max_time          = 2.0;
+  PetscCall(SceneGetValue(r, root, "sewing", &map));
+  if (!map) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(SceneExpectMap(r, map, "sewing", SceneSewingKeys, NULL));
+  PetscCall(PetscStrncpy(r->block, "sewing", sizeof(r->block)));
+  PetscCall(ReadReal(r, map, "pull_acceleration", PETSC_FALSE, SCENE_REAL_POSITIVE, "m/s^2", &sewing->pull_acceleration));
+  PetscCall(ReadReal(r, map, "pull_radius", PETSC_FALSE, SCENE_REAL_POSITIVE, "m", &sewing->pull_radius));
+  PetscCall(ReadReal(r, map, "sewn_stiffness", PETSC_FALSE, SCENE_REAL_POSITIVE, "N/m", &sewing->sewn_stiffness));
+  PetscCall(ReadReal(r, map, "tolerance", PETSC_FALSE, SCENE_REAL_POSITIVE, "m", &sewing->tolerance));
+  PetscCall(ReadReal(r, map, "max_time", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "s", &sewing->max_time));
+  r->block[0] = 0;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 static PetscErrorCode SceneReadDocument(SceneReader *r, Scene scene)
 {
   yaml_node_t *root = yaml_document_get_root_node(r->doc);
@@ -742,6 +1165,10 @@ static PetscErrorCode SceneReadDocument(SceneReader *r, Scene scene)
   PetscCall(SceneReadFabrics(r, root, scene));
   PetscCall(SceneReadPieces(r, root, scene));
   PetscCall(SceneReadRun(r, root, &scene->run));
+  PetscCall(SceneReadBodies(r, root, scene));
+  PetscCall(SceneReadSelfCollision(r, root, &scene->self_collision));
+  PetscCall(SceneReadSeams(r, root, scene));
+  PetscCall(SceneReadSewing(r, root, &scene->sewing));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -935,8 +1362,11 @@ static PetscErrorCode SceneFabricView(const SceneFabric *f, PetscViewer viewer)
   char list[SCENE_TEXT_LEN] = "";
 
   PetscFunctionBeginUser;
+  if (f->preset[0]) PetscCall(SceneAppendItem(list, sizeof(list), "preset %s", f->preset));
   PetscCall(SceneAppendItem(list, sizeof(list), "density %g kg/m^2", (double)f->density));
   PetscCall(SceneAppendItem(list, sizeof(list), "stretch %g/%g N/m (warp/weft)", (double)f->stretch_warp, (double)f->stretch_weft));
+  if (f->stretch_knee_warp > 0 || f->stretch_knee_weft > 0)
+    PetscCall(SceneAppendItem(list, sizeof(list), "beyond strain %g/%g: %g/%g N/m", (double)f->stretch_knee_warp, (double)f->stretch_knee_weft, (double)f->stretch_stiff_warp, (double)f->stretch_stiff_weft));
   PetscCall(SceneAppendItem(list, sizeof(list), "shear %g N/m (%s)", (double)f->shear, ClothShearModels[f->shear_model]));
   PetscCall(SceneAppendItem(list, sizeof(list), "bend %g/%g %s (warp/weft, %s)", (double)f->bend_warp, (double)f->bend_weft, f->bend_model == CLOTH_BEND_LINK ? "N/m" : "N m", ClothBendModels[f->bend_model]));
   PetscCall(SceneAppendItem(list, sizeof(list), "damping %g 1/s", (double)f->damping));
@@ -955,7 +1385,9 @@ static PetscErrorCode ScenePieceView(Scene scene, const ScenePiece *p, PetscView
   PetscFunctionBeginUser;
   PetscCall(SceneAppendItem(list, sizeof(list), "fabric '%s'", scene->fabrics[p->fabric].name));
   PetscCall(SceneAppendItem(list, sizeof(list), "grid %" PetscInt_FMT " x %" PetscInt_FMT " = %" PetscInt_FMT " particles", p->nu, p->nv, p->nu * p->nv));
-  PetscCall(SceneAppendItem(list, sizeof(list), "size %g x %g m", (double)p->size[0], (double)p->size[1]));
+  if (p->has_boundaries)
+    PetscCall(SceneAppendItem(list, sizeof(list), "outline from 4 boundaries (%" PetscInt_FMT "/%" PetscInt_FMT "/%" PetscInt_FMT "/%" PetscInt_FMT " vertices)", p->boundary_npoints[0], p->boundary_npoints[1], p->boundary_npoints[2], p->boundary_npoints[3]));
+  else PetscCall(SceneAppendItem(list, sizeof(list), "size %g x %g m", (double)p->size[0], (double)p->size[1]));
   PetscCall(SceneAppendItem(list, sizeof(list), "mass %s", ClothMassDistributions[p->mass_distribution]));
   PetscCall(SceneAppendItem(list, sizeof(list), "%" PetscInt_FMT " pin%s", p->npins, p->npins == 1 ? "" : "s"));
   PetscCall(SceneAppendItem(frame, sizeof(frame), "origin (%g, %g, %g) m", (double)p->origin[0], (double)p->origin[1], (double)p->origin[2]));
@@ -983,6 +1415,20 @@ static PetscErrorCode SceneRunView(const SceneRunDefaults *run, PetscViewer view
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+static PetscErrorCode SceneBodyView(const SceneBody *b, PetscViewer viewer)
+{
+  char list[SCENE_TEXT_LEN] = "";
+
+  PetscFunctionBeginUser;
+  if (b->type == SCENE_BODY_SPHERE) PetscCall(SceneAppendItem(list, sizeof(list), "sphere, center (%g, %g, %g) m, radius %g m", (double)b->center[0], (double)b->center[1], (double)b->center[2], (double)b->radius));
+  else if (b->type == SCENE_BODY_PLANE) PetscCall(SceneAppendItem(list, sizeof(list), "plane through (%g, %g, %g) m, normal (%g, %g, %g)", (double)b->point[0], (double)b->point[1], (double)b->point[2], (double)b->normal[0], (double)b->normal[1], (double)b->normal[2]));
+  else
+    PetscCall(SceneAppendItem(list, sizeof(list), "mesh %s, scale %g, rotation (%g, %g, %g) deg, translation (%g, %g, %g) m", b->file, (double)b->scale, (double)b->rotation[0], (double)b->rotation[1], (double)b->rotation[2], (double)b->translation[0], (double)b->translation[1], (double)b->translation[2]));
+  PetscCall(SceneAppendItem(list, sizeof(list), "friction %g/%g (static/kinetic), thickness %g m", (double)b->friction_static, (double)b->friction_kinetic, (double)b->thickness));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "body '%s': %s\n", b->name, list));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode SceneView(Scene scene, PetscViewer viewer)
 {
   PetscBool iascii;
@@ -1002,6 +1448,7 @@ PetscErrorCode SceneView(Scene scene, PetscViewer viewer)
   for (PetscInt f = 0; f < scene->nfabrics; f++) PetscCall(SceneFabricView(&scene->fabrics[f], viewer));
   for (PetscInt p = 0; p < scene->npieces; p++) PetscCall(ScenePieceView(scene, &scene->pieces[p], viewer));
   PetscCall(SceneRunView(&scene->run, viewer));
+  for (PetscInt b = 0; b < scene->nbodies; b++) PetscCall(SceneBodyView(&scene->bodies[b], viewer));
   PetscCall(PetscViewerASCIIPopTab(viewer));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -1013,9 +1460,12 @@ PetscErrorCode SceneDestroy(Scene *scene)
   for (PetscInt p = 0; p < (*scene)->npieces && (*scene)->pieces; p++) {
     PetscCall(PetscFree((*scene)->pieces[p].pins));
     PetscCall(PetscFree((*scene)->pieces[p].pins_given));
+    for (PetscInt b = 0; b < 4; b++) PetscCall(PetscFree((*scene)->pieces[p].boundary_points[b]));
   }
   PetscCall(PetscFree((*scene)->pieces));
   PetscCall(PetscFree((*scene)->fabrics));
+  PetscCall(PetscFree((*scene)->bodies));
+  PetscCall(PetscFree((*scene)->seams));
   PetscCall(PetscFree(*scene));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

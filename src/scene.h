@@ -39,6 +39,11 @@ typedef struct {
   PetscReal             damping;                   /* mass-proportional damping rate, 1/s (>= 0): force -damping m v */
   PetscReal             repulsion;                 /* stretch links repel below this fraction of their rest length (0 = off, < 1) */
   PetscReal             repulsion_stiffness;       /* stiffness of that repulsion relative to the link's stretch stiffness (>= 0) */
+  PetscReal             stretch_knee_warp;         /* biphasic tensile curve: strain beyond which warp links stiffen (0 = linear) */
+  PetscReal             stretch_knee_weft;         /* the same for the weft links */
+  PetscReal             stretch_stiff_warp;        /* tensile 2D modulus beyond the knee, warp, N/m (defaults to stretch_warp) */
+  PetscReal             stretch_stiff_weft;        /* the same along the weft, N/m */
+  char                  preset[CLOTH_NAME_LEN];    /* measured fabric it starts from ("" = none; see fabric_presets.h) */
 } SceneFabric;
 
 /* A flat pattern piece: a logical grid of nu x nv particles (i along u = warp, j along v = weft),
@@ -56,6 +61,11 @@ typedef struct {
   PetscInt             *pins;          /* 2*npins grid indices (i, j), already resolved to 0 <= i < nu, 0 <= j < nv */
   PetscInt             *pins_given;    /* 2*npins indices exactly as written (negative counts from the end), for -grid */
   PetscInt              grid_given[2]; /* nu, nv as written in the file (before any SceneSetGridSize) */
+  PetscBool             has_boundaries;      /* outline from four boundaries (MODEL.md section 3) instead of size */
+  PetscInt              boundary_npoints[4]; /* vertices of the bottom, right, top, left polylines */
+  PetscReal            *boundary_points[4];  /* 2 * npoints pattern-plane coordinates (u, v), m, each */
+  PetscReal             pin_disc[3];         /* pin particles with |uv - (pin_disc[0], pin_disc[1])| < pin_disc[2] (radius 0 = none) */
+  PetscReal             pin_box[4];          /* pin particles with u0 <= u <= u1, v0 <= v <= v1 (u0, v0, u1, v1; empty when u1 < u0) */
 } ScenePiece;
 
 typedef struct {
@@ -67,6 +77,67 @@ typedef struct {
   PetscInt    checkpoint_every;           /* 0 when not given */
 } SceneRunDefaults;
 
+typedef enum {
+  SCENE_BODY_SPHERE, /* analytic sphere: center, radius */
+  SCENE_BODY_PLANE,  /* analytic half-space: point, outward normal */
+  SCENE_BODY_MESH    /* triangle mesh from an OBJ file: file, scale, rotation, translation */
+} SceneBodyType;
+extern const char *const SceneBodyTypes[];
+
+/* A rigid body the cloth collides with (see body.h). */
+typedef struct {
+  char          name[CLOTH_NAME_LEN];
+  SceneBodyType type;
+  PetscReal     center[3], radius;          /* sphere, m */
+  PetscReal     point[3], normal[3];        /* plane: a point on it (m) and its unit outward normal */
+  char          file[CLOTH_PATH_LEN];       /* mesh: OBJ path, resolved relative to the scene file's directory */
+  PetscReal     scale;                      /* mesh: file units -> m (default 1) */
+  PetscReal     rotation[3];                /* mesh: degrees about x, then y, then z (after scaling) */
+  PetscReal     translation[3];             /* mesh: m, applied last */
+  PetscReal     friction_static;            /* Coulomb coefficients (>= 0), default 0 */
+  PetscReal     friction_kinetic;
+  PetscReal     thickness;                  /* m (>= 0): the cloth is kept this far outside the surface */
+} SceneBody;
+
+/* Cloth-cloth collisions (self_collision: block; see selfcontact.h). Off unless enabled. */
+typedef struct {
+  PetscBool given;        /* the block is present */
+  PetscBool enabled;
+  PetscReal thickness;    /* m (> 0): layers are kept this far apart */
+  PetscReal stiffness;    /* N/m (> 0): repulsion 0.5 k (thickness - d)^2 for d < thickness */
+  PetscInt  exclude_ring; /* particles of one piece within this many grid rings never collide (default 1) */
+  PetscBool same_piece;   /* particles of one piece collide with each other (default true) */
+} SceneSelfCollision;
+
+/* The four sides of a piece's grid: bottom j = 0, right i = nu-1, top j = nv-1, left i = 0. */
+typedef enum { CLOTH_SIDE_BOTTOM, CLOTH_SIDE_RIGHT, CLOTH_SIDE_TOP, CLOTH_SIDE_LEFT } ClothPieceSide;
+extern const char *const ClothPieceSides[];
+
+/* One side of a seam: a stretch of one side of a piece, from `from` to `to` as fractions of that side's arc
+   length in index order (bottom and top by increasing i, left and right by increasing j); to < from runs
+   the stretch backwards. */
+typedef struct {
+  PetscInt       piece;
+  ClothPieceSide side;
+  PetscReal      from, to;
+} SceneSeamSide;
+
+/* A seam (seams: list): two stretches sewn together (see seam.h). */
+typedef struct {
+  char          name[CLOTH_NAME_LEN];
+  SceneSeamSide a, b;
+  PetscBool     bend; /* add bending across the seam, so that it does not fold like a hinge (default true) */
+} SceneSeam;
+
+/* How seams are sewn (sewing: block; see sewing.h). */
+typedef struct {
+  PetscReal pull_acceleration; /* m/s^2: the pull on each pair acts like gravity of this strength (default 9.81) */
+  PetscReal pull_radius;       /* m: within this gap the pull falls linearly to zero (default 0.01) */
+  PetscReal sewn_stiffness;    /* N/m: the spring that holds a sewn pair (default 2000) */
+  PetscReal tolerance;         /* m: a pair closer than this is sewn (default 0.002) */
+  PetscReal max_time;          /* s: gravity comes on after this much pulling even with pairs open (default 2) */
+} SceneSewing;
+
 typedef struct _n_Scene *Scene;
 struct _n_Scene {
   char             path[CLOTH_PATH_LEN]; /* the file it was read from */
@@ -77,6 +148,12 @@ struct _n_Scene {
   PetscInt         npieces;
   ScenePiece      *pieces;
   SceneRunDefaults run;
+  PetscInt         nbodies;
+  SceneBody       *bodies;               /* rigid bodies (bodies: list), in scene order */
+  SceneSelfCollision self_collision;     /* cloth-cloth collisions (self_collision: block) */
+  PetscInt         nseams;
+  SceneSeam       *seams;                /* seams: list, in scene order */
+  SceneSewing      sewing;               /* sewing: block (defaults when absent) */
   PetscBool        single_grid;          /* exactly one rectangular piece: -grid N may resize it */
   PetscInt64       fingerprint;          /* FNV-1a hash of the file bytes (mixed with -grid), kept in checkpoints */
   PetscInt64       file_fingerprint;     /* FNV-1a hash of the file bytes alone */

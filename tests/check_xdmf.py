@@ -5,8 +5,9 @@ Run with pvpython (ParaView's Python, which must also be able to import h5py and
 Checks, with each of ParaView's XDMF readers (XDMFReader, Xdmf3ReaderS, Xdmf3ReaderT):
   - the time steps are exactly the expected ones (within 1e-12), and the .h5 holds one frame each;
   - at the last time step: the number of points and cells (all grids together);
-  - the grid "fabric": all cells quadrilaterals, positions and velocities equal (within 1e-12) to
-    the last frame's datasets read from the .h5 with h5py, and position[0, 0] equal to --fabric-x0.
+  - the grid "fabric": all cells quadrilaterals, positions, velocities and the scalar strain equal
+    (within 1e-12) to the last frame's datasets read from the .h5 with h5py, and position[0, 0]
+    equal to --fabric-x0.
 Exits non-zero with a message on the first failed check.
 """
 import argparse
@@ -38,7 +39,7 @@ def check(condition, message):
 
 
 def last_frame_from_h5(h5path, times):
-    """Checks the frame groups' times against `times`; returns (position, velocity) of the last."""
+    """Checks the frame groups' times against `times`; returns (position, velocity, strain) of the last."""
     with h5py.File(h5path, "r") as f:
         frames = sorted(((g.attrs["time"], name) for name, g in f["frames"].items()), key=lambda x: x[0])
         found = [t for t, _ in frames]
@@ -48,7 +49,9 @@ def last_frame_from_h5(h5path, times):
         for name in ("position", "velocity"):
             check(last[name].dtype == np.float64 and last[name].ndim == 2 and last[name].shape[1] == 3,
                   f"{h5path}:{last.name}/{name} is {last[name].dtype} {last[name].shape}, expected float64 (N, 3)")
-        return last["position"][...], last["velocity"][...]
+        check(last["strain"].dtype == np.float64 and last["strain"].shape == (last["position"].shape[0], 1),
+              f"{h5path}:{last.name}/strain is {last['strain'].dtype} {last['strain'].shape}, expected float64 (N, 1)")
+        return last["position"][...], last["velocity"][...], last["strain"][...]
 
 
 def leaves(data, name=None):
@@ -75,7 +78,7 @@ def fabric_block(data):
     return named[0]
 
 
-def check_reader(name, path, args, times, position, velocity):
+def check_reader(name, path, args, times, position, velocity, strain):
     reader = READERS[name](path)
     found = reader.TimestepValues
     found = list(found) if hasattr(found, "__len__") else [found]
@@ -96,6 +99,11 @@ def check_reader(name, path, args, times, position, velocity):
     shown_velocity = vtk_to_numpy(shown_velocity)
     check(shown_velocity.shape == velocity.shape and np.abs(shown_velocity - velocity).max() <= TOLERANCE,
           f"{name}: fabric velocities at t = {found[-1]} differ from the .h5")
+    shown_strain = fabric.GetPointData().GetArray("strain")
+    check(shown_strain is not None and shown_strain.GetNumberOfComponents() == 1, f"{name}: fabric has no scalar point array 'strain'")
+    shown_strain = vtk_to_numpy(shown_strain).reshape(-1, 1)
+    check(shown_strain.shape == strain.shape and np.abs(shown_strain - strain).max() <= TOLERANCE,
+          f"{name}: fabric strain at t = {found[-1]} differs from the .h5")
     if args.fabric_x0 is not None:
         check(abs(points[0, 0] - args.fabric_x0) <= TOLERANCE,
               f"{name}: fabric position[0, 0] = {points[0, 0]!r} at the last step, expected {args.fabric_x0!r}")
@@ -113,9 +121,11 @@ def main():
     args = parser.parse_args()
     times = [float(t) for t in args.times.split(",")]
     check(os.path.isfile(args.xdmf), f"{args.xdmf} does not exist")
-    position, velocity = last_frame_from_h5(os.path.splitext(args.xdmf)[0] + ".h5", times)
+    position, velocity, strain = last_frame_from_h5(os.path.splitext(args.xdmf)[0] + ".h5", times)
     for name in args.readers.split(","):
-        check_reader(name, args.xdmf, args, times, position, velocity)
+        check_reader(name, args.xdmf, args, times, position, velocity, strain)
+    print(f"check_xdmf: {args.xdmf}: {args.points} points, {args.cells} cells, {len(times)} time steps, "
+          f"fields velocity and strain, read by {args.readers}")
 
 
 if __name__ == "__main__":

@@ -1,6 +1,6 @@
 /* Checkpoints: exact write/read round trip (also read back on one rank), pruning to the newest `keep`,
    and refusal, with the expected message, of files that are missing, not HDF5, truncated, corrupt,
-   unfinished, from another scene or with another particle count. Prints nothing unless a check fails.
+   unfinished, lacking a required dataset, from another scene or with another particle count. Prints nothing unless a check fails.
 
    Usage: mpiexec -n P test_checkpoint -dir DIR [-info] (-info shows the refusal messages) */
 #define _POSIX_C_SOURCE 200809L
@@ -59,36 +59,62 @@ static PetscErrorCode MakeInfo(PetscInt64 step, PetscInt n, ClothCheckpointInfo 
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* Writes a checkpoint of n particles at step on comm; returns its path. */
-static PetscErrorCode WriteCheckpoint(MPI_Comm comm, const char dir[], PetscInt64 step, PetscInt n, PetscInt keep, char path[], size_t len)
+/* The fields of a test state: position and velocity (required), and optionally a third one, "extra"
+   (the velocity's values again), that a reader may or may not require. */
+static PetscErrorCode MakeFields(Vec x, Vec v, PetscBool extra_required, ClothCheckpointField fields[3])
 {
-  ClothCheckpointInfo info;
-  Vec                 x, v;
+  PetscFunctionBeginUser;
+  fields[0] = (ClothCheckpointField){"position", x, PETSC_TRUE, PETSC_FALSE};
+  fields[1] = (ClothCheckpointField){"velocity", v, PETSC_TRUE, PETSC_FALSE};
+  fields[2] = (ClothCheckpointField){"extra", v, extra_required, PETSC_FALSE};
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Writes a checkpoint of n particles at step on comm (with the field "extra" when asked); returns its path. */
+static PetscErrorCode WriteCheckpointFields(MPI_Comm comm, const char dir[], PetscInt64 step, PetscInt n, PetscBool with_extra, PetscInt keep, char path[], size_t len)
+{
+  ClothCheckpointInfo  info;
+  ClothCheckpointField fields[3];
+  Vec                  x, v;
 
   PetscFunctionBeginUser;
   PetscCall(MakeInfo(step, n, &info));
   PetscCall(CreateState(comm, n, &x, &v));
-  PetscCall(ClothCheckpointWrite(comm, dir, &info, x, v, keep, path, len));
+  PetscCall(MakeFields(x, v, PETSC_FALSE, fields));
+  PetscCall(ClothCheckpointWrite(comm, dir, &info, with_extra ? 3 : 2, fields, keep, path, len));
   PetscCall(DestroyState(&x, &v));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode WriteCheckpoint(MPI_Comm comm, const char dir[], PetscInt64 step, PetscInt n, PetscInt keep, char path[], size_t len)
+{
+  PetscFunctionBeginUser;
+  PetscCall(WriteCheckpointFields(comm, dir, step, n, PETSC_TRUE, keep, path, len));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 /* Reads path on comm and compares state and info exactly with what WriteCheckpoint wrote. */
 static PetscErrorCode CheckRoundTrip(MPI_Comm comm, const char path[], PetscInt64 step, PetscInt n)
 {
-  ClothCheckpointInfo expect, info;
-  Vec                 x, v, x_read, v_read;
-  PetscBool           same_x, same_v, same_strings;
+  ClothCheckpointInfo  expect, info;
+  ClothCheckpointField fields[3];
+  Vec                  x, v, x_read, v_read, extra_read;
+  PetscBool            same_x, same_v, same_extra, same_strings;
 
   PetscFunctionBeginUser;
   PetscCall(MakeInfo(step, n, &expect));
   PetscCall(CreateState(comm, n, &x, &v));
   PetscCall(VecDuplicate(x, &x_read));
   PetscCall(VecDuplicate(v, &v_read));
-  PetscCall(ClothCheckpointRead(comm, path, &expect, &info, x_read, v_read));
+  PetscCall(VecDuplicate(v, &extra_read));
+  PetscCall(MakeFields(x_read, v_read, PETSC_TRUE, fields));
+  fields[2].vec = extra_read;
+  PetscCall(ClothCheckpointRead(comm, path, &expect, &info, 3, fields));
   PetscCall(VecEqual(x, x_read, &same_x));
   PetscCall(VecEqual(v, v_read, &same_v));
-  PetscCheck(same_x && same_v, comm, PETSC_ERR_PLIB, "%s: state read back differs (position %d, velocity %d)", path, same_x, same_v);
+  PetscCall(VecEqual(v, extra_read, &same_extra));
+  PetscCheck(same_x && same_v && same_extra && fields[2].found, comm, PETSC_ERR_PLIB, "%s: state read back differs (position %d, velocity %d, extra %d)", path, same_x, same_v, same_extra);
+  PetscCall(VecDestroy(&extra_read));
   same_strings = (PetscBool)(!strcmp(info.integrator, expect.integrator) && !strcmp(info.scene_name, expect.scene_name));
   PetscCheck(same_strings && info.step == expect.step && info.time == expect.time && info.dt == expect.dt && info.scene_fingerprint == expect.scene_fingerprint && info.nparticles == n, comm, PETSC_ERR_PLIB, "%s: info read back differs", path);
   PetscCall(DestroyState(&x, &v));
@@ -96,18 +122,20 @@ static PetscErrorCode CheckRoundTrip(MPI_Comm comm, const char path[], PetscInt6
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* Reads path, which must be refused with a message containing `words`. */
+/* Reads path (requiring the field "extra"), which must be refused with a message containing `words`. */
 static PetscErrorCode CheckRefused(MPI_Comm comm, const char path[], const ClothCheckpointInfo *expect, PetscInt n, const char words[])
 {
-  Vec            x, v;
-  PetscErrorCode ierr;
-  const char    *text;
-  char          *message;
+  Vec                  x, v;
+  ClothCheckpointField fields[3];
+  PetscErrorCode       ierr;
+  const char          *text;
+  char                *message;
 
   PetscFunctionBeginUser;
   PetscCall(CreateState(comm, n, &x, &v));
+  PetscCall(MakeFields(x, v, PETSC_TRUE, fields));
   PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));
-  ierr = ClothCheckpointRead(comm, path, expect, NULL, x, v);
+  ierr = ClothCheckpointRead(comm, path, expect, NULL, 3, fields);
   PetscCall(PetscPopErrorHandler());
   PetscCheck(ierr != 0, comm, PETSC_ERR_PLIB, "%s was accepted; expected a refusal saying '%s'", path, words);
   PetscCall(PetscErrorMessage(ierr, &text, &message));
@@ -211,6 +239,9 @@ static PetscErrorCode TestRefusals(MPI_Comm comm, const char dir[], PetscInt n)
   PetscCall(WriteCheckpoint(comm, dir, 3, n, 0, path, sizeof(path)));
   PetscCall(DeleteEndMarker(comm, path));
   PetscCall(CheckRefused(comm, path, NULL, n, "no end marker"));
+
+  PetscCall(WriteCheckpointFields(comm, dir, 5, n, PETSC_FALSE, 0, path, sizeof(path)));
+  PetscCall(CheckRefused(comm, path, NULL, n, "lacks the dataset /state/extra"));
 
   PetscCall(WriteCheckpoint(comm, dir, 4, n, 0, path, sizeof(path)));
   PetscCall(CheckRefused(comm, path, &expect, n + 5, "particles, the scene has"));

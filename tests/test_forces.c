@@ -1,6 +1,6 @@
 /* Every force's Jacobian against central finite differences.
 
-   1. Element level: links (with and without repulsion active) and angle springs (corner and chain,
+   1. Element level: links (with and without repulsion active; biphasic below and beyond the knee) and angle springs (corner and chain,
       several rest angles) at random configurations: force = -dE/dx and Hessian = d(-force)/dx.
    2. System level: the assembled implicit matrix of a small perturbed sheet with every interaction
       kind, A = M + h C + h^2 K, against finite differences of the total force in position and in
@@ -99,7 +99,21 @@ static PetscErrorCode CheckElements(PetscRandom rnd)
       link.repel_length = (trial % 2) ? 1.3 * l : 0.7 * l; /* repulsion active on odd trials */
       link.repel_k      = 10 * link.k;
     }
+    link.knee_length = 0;
+    link.k_stiff     = link.k;
     PetscCall(CheckElement(LinkFunction, &link, 2, x, "link"));
+    {
+      /* biphasic tensile link (rest half the current length): beyond its knee on odd trials, below it on even ones */
+      ClothLink biphasic = link;
+      PetscReal d[3], l;
+      for (PetscInt c = 0; c < 3; c++) d[c] = x[3 + c] - x[c];
+      l                    = PetscSqrtReal(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+      biphasic.rest        = 0.5 * l;
+      biphasic.repel_length = 0;
+      biphasic.knee_length = (trial % 2) ? 0.25 * l : 0.75 * l;
+      biphasic.k_stiff     = Uniform(rnd, 2, 10) * link.k;
+      PetscCall(CheckElement(LinkFunction, &biphasic, 2, x, (trial % 2) ? "biphasic link beyond the knee" : "biphasic link below the knee"));
+    }
     for (PetscInt kind = 0; kind < 2; kind++) {
       const PetscReal theta0 = (trial % 4 == 0) ? (kind ? 0.0 : PETSC_PI / 2) : Uniform(rnd, 0.05, PETSC_PI - 0.05);
       angle.p[0] = 0;

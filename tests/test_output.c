@@ -10,7 +10,8 @@
      scene.xdmf/.h5    the sheet plus a static triangle mesh "mannequin" (4 points, 2 triangles),
                        frames at times 0 and 0.5
      fresh.xdmf/.h5    restart_time >= 0 with no series yet: starts a new one (one frame at 0.7)
-   Position of particle i, component c at time t: shift + (i + c/2) (1 + t) + 1/8; velocity sin(i + c) + t. */
+   Position of particle i, component c at time t: shift + (i + c/2) (1 + t) + 1/8; velocity sin(i + c) + t;
+   strain i t / 100. */
 #include <string.h>
 #include "output.h"
 
@@ -49,9 +50,9 @@ static PetscErrorCode CreateTopology(ClothOutputTopology *topology, PetscInt **q
 
 static PetscErrorCode WriteFrame(ClothOutput out, MPI_Comm comm, PetscInt n, PetscInt step, PetscReal time, PetscReal shift)
 {
-  Vec          x, v;
+  Vec          x, v, strain;
   PetscInt     lo, hi;
-  PetscScalar *xa, *va;
+  PetscScalar *xa, *va, *sa;
 
   PetscFunctionBeginUser;
   PetscCall(VecCreate(comm, &x));
@@ -70,7 +71,13 @@ static PetscErrorCode WriteFrame(ClothOutput out, MPI_Comm comm, PetscInt n, Pet
   }
   PetscCall(VecRestoreArray(x, &xa));
   PetscCall(VecRestoreArray(v, &va));
-  PetscCall(ClothOutputWriteFrame(out, step, time, x, v));
+  PetscCall(VecCreateMPI(comm, PETSC_DECIDE, n, &strain));
+  PetscCall(VecGetOwnershipRange(strain, &lo, &hi));
+  PetscCall(VecGetArray(strain, &sa));
+  for (PetscInt i = lo; i < hi; i++) sa[i - lo] = i * time / 100;
+  PetscCall(VecRestoreArray(strain, &sa));
+  PetscCall(ClothOutputWriteFrame(out, step, time, x, v, strain));
+  PetscCall(VecDestroy(&strain));
   PetscCall(VecDestroy(&x));
   PetscCall(VecDestroy(&v));
   PetscFunctionReturn(PETSC_SUCCESS);

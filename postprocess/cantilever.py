@@ -1,0 +1,207 @@
+#!/usr/bin/python3
+"""Peirce cantilever bending test (ASTM D1388) for clothsim: write the scene, measure the bending length.
+
+A strip (2.5 cm wide) lies on a table with an overhang l beyond the edge; the part on the table is
+clamped flat (its particles are pinned: the table and the weight of the fabric on it hold that part
+flat). The tip sags under gravity; at equilibrium the chord from the table edge to the tip makes the
+angle theta below the horizontal. ASTM D1388 finds the overhang l* at which theta = 41.5 degrees and
+reports the bending length c = l* (cos(theta/2) / (8 tan theta))^(1/3) = 0.5093 l*. For a fabric of
+bending rigidity B (N m) and areal weight W = density g (N/m^2) the theory gives c = (B / W)^(1/3).
+
+Instead of bisecting l with one run per trial, one scene holds strips of several overhangs for every
+fabric and direction (pieces do not interact); theta(l) is interpolated (log-log, between the two
+overhangs that bracket 41.5 degrees) to find l*.
+
+  scene:   write the YAML scene (strips named FABRIC_DIRECTION_LMM, DIRECTION warp or weft)
+  measure: read the final checkpoint and the run's log (clothsim prints each fabric's density and
+           bending rigidity), print simulated and theoretical bending lengths, optionally check them
+
+    /usr/bin/python3 postprocess/cantilever.py scene --presets denim polyester -o input/cantilever.yaml
+    mpiexec -n 1 build/clothsim -scene input/cantilever.yaml | tee cantilever.log
+    /usr/bin/python3 postprocess/cantilever.py measure output/cantilever/checkpoint_*.h5 \\
+        --scene input/cantilever.yaml --log cantilever.log [--tolerance 0.10]
+"""
+import argparse
+import json
+import math
+import re
+import sys
+
+import numpy as np
+
+import cloth_state
+
+THETA = 41.5  # degrees, ASTM D1388
+PEIRCE = (math.cos(math.radians(THETA) / 2) / (8 * math.tan(math.radians(THETA)))) ** (1 / 3)  # 0.5093
+WIDTH = 0.025  # m, ASTM D1388 strip width
+ACROSS = 3     # nodes across the strip
+
+
+def strip_piece(fabric, direction, overhang, segments, table_segments, z):
+    """One strip: along x from x = -table length to x = overhang, table edge at x = 0, at height y = 0."""
+    h = overhang / segments
+    table = table_segments * h
+    length_nodes = table_segments + segments + 1
+    along_u = direction == "warp"  # warp threads run along u (i): a warp strip bends its warp threads
+    piece = {
+        "name": f"{fabric}_{direction}_{overhang * 1e3:.2f}".replace(".", "p"),
+        "fabric": fabric,
+        "grid": [length_nodes, ACROSS] if along_u else [ACROSS, length_nodes],
+        "size": [table + overhang, WIDTH] if along_u else [WIDTH, table + overhang],
+        "origin": [-table, 0.0, z],
+        "u_axis": [1, 0, 0] if along_u else [0, 0, 1],
+        "v_axis": [0, 0, 1] if along_u else [1, 0, 0],
+        # the clamped table part, with a quarter segment of slack so that the edge node is included
+        "pin_box": {"min": [-1e-6, -1e-6], "max": [table + 0.25 * h, WIDTH + 1e-6]} if along_u
+        else {"min": [-1e-6, -1e-6], "max": [WIDTH + 1e-6, table + 0.25 * h]},
+    }
+    return piece
+
+
+def flow(value):
+    """YAML flow text of a small structure (lists/dicts of numbers and names)."""
+    if isinstance(value, dict):
+        return "{" + ", ".join(f"{k}: {flow(v)}" for k, v in value.items()) + "}"
+    if isinstance(value, list):
+        return "[" + ", ".join(flow(v) for v in value) + "]"
+    if isinstance(value, float):
+        return repr(round(value, 12))
+    return str(value)
+
+
+def write_scene(args, out):
+    overhangs = np.geomspace(args.lmin, args.lmax, args.count)
+    lines = [
+        "# Peirce cantilever bending test (ASTM D1388), written by postprocess/cantilever.py:",
+        "#   /usr/bin/python3 postprocess/cantilever.py scene " + " ".join(sys.argv[2:]),
+        "# Strips FABRIC_DIRECTION_L (L: overhang in mm, 'p' for the point), 2.5 cm wide, clamped on the table",
+        "# (x < 0), overhang along +x; the tip angle at rest gives the bending length (docs/validation.md).",
+        "name: cantilever",
+        "gravity: [0, -9.81, 0]",
+        "fabrics:",
+    ]
+    for fabric in args.presets:
+        lines += [f"  {fabric}:", f"    preset: {fabric}", f"    damping: {args.damping}"]
+    lines.append("pieces:")
+    z = 0.0
+    for fabric in args.presets:
+        for direction in ("warp", "weft"):
+            for overhang in overhangs:
+                piece = strip_piece(fabric, direction, float(overhang), args.segments, args.table_segments, z)
+                lines.append("  - " + "\n    ".join(f"{k}: {flow(v)}" for k, v in piece.items()))
+                z += 2 * WIDTH
+    lines += ["run:", "  integrator: implicit", f"  dt: {args.dt}", f"  t_final: {args.t_final}", "  output_every: 10", ""]
+    out.write("\n".join(lines))
+
+
+def fabric_values(log_path):
+    """{fabric: (density, bend_warp, bend_weft)} from the scene summary clothsim prints."""
+    pattern = re.compile(r"fabric '([^']+)':.*?density ([0-9.eE+-]+) kg/m\^2.*?bend ([0-9.eE+-]+)/([0-9.eE+-]+) N m")
+    values = {}
+    with open(log_path) as f:
+        for line in f:
+            m = pattern.search(line)
+            if m:
+                values[m.group(1)] = tuple(float(m.group(k)) for k in (2, 3, 4))
+    if not values:
+        raise SystemExit(f"{log_path}: no fabric summary lines (expected clothsim's scene summary with angle bending)")
+    return values
+
+
+def tip_angle(p, along_u):
+    """Tip angle (degrees below the horizontal) of a strip's final positions p (nv, nu, 3)."""
+    rows = p if along_u else np.transpose(p, (1, 0, 2))  # rows[across, along]
+    xs0 = rows[:, :, 0].mean(axis=0)
+    edge = int(np.argmin(np.abs(xs0)))  # the node at the table edge, x = 0
+    tip = rows[:, -1, :].mean(axis=0)
+    base = rows[:, edge, :].mean(axis=0)
+    return math.degrees(math.atan2(base[1] - tip[1], tip[0] - base[0]))
+
+
+def crossing(ls, thetas):
+    """Overhang where theta(l) = 41.5 degrees, by log-log interpolation between bracketing points."""
+    order = np.argsort(ls)
+    ls, thetas = np.asarray(ls)[order], np.asarray(thetas)[order]
+    for k in range(len(ls) - 1):
+        if thetas[k] <= THETA <= thetas[k + 1]:
+            t = (math.log(THETA) - math.log(thetas[k])) / (math.log(thetas[k + 1]) - math.log(thetas[k]))
+            return math.exp(math.log(ls[k]) + t * (math.log(ls[k + 1]) - math.log(ls[k])))
+    return None
+
+
+def measure(args):
+    scene = cloth_state.read_scene(args.scene)
+    x = cloth_state.read_positions(args.checkpoint)
+    g = float(np.linalg.norm(scene.get("gravity", [0, -9.81, 0])))
+    values = fabric_values(args.log)
+    curves = {}
+    for (name, nu, nv, offset), piece in zip(cloth_state.piece_grids(scene), scene["pieces"]):
+        fabric, direction = piece["fabric"], ("warp" if piece["u_axis"] == [1, 0, 0] else "weft")
+        overhang = piece["size"][0 if direction == "warp" else 1] - abs(piece["origin"][0])
+        theta = tip_angle(cloth_state.piece_positions(x, nu, nv, offset), direction == "warp")
+        curves.setdefault((fabric, direction), []).append((overhang, theta))
+    results, ok = [], True
+    for (fabric, direction), pts in curves.items():
+        density, bend_warp, bend_weft = values[fabric]
+        bend = bend_warp if direction == "warp" else bend_weft
+        c_theory = (bend / (density * g)) ** (1 / 3)
+        l_star = crossing([p[0] for p in pts], [p[1] for p in pts])
+        c_sim = PEIRCE * l_star if l_star else None
+        err = (c_sim - c_theory) / c_theory if c_sim else None
+        good = err is not None and abs(err) <= args.tolerance
+        ok = ok and good
+        results.append({"fabric": fabric, "direction": direction, "B_Nm": bend, "density": density,
+                        "c_theory_cm": 100 * c_theory, "overhang_cm": 100 * l_star if l_star else None,
+                        "c_sim_cm": 100 * c_sim if c_sim else None, "error": err,
+                        "angles": [(round(100 * l, 3), round(t, 2)) for l, t in sorted(pts)]})
+    return results, ok
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    sub = parser.add_subparsers(dest="command", required=True)
+    s = sub.add_parser("scene", help="write the cantilever scene")
+    s.add_argument("--presets", nargs="+", default=["denim", "cotton_polyester", "polyester", "cotton_knit"], help="fabric presets")
+    s.add_argument("--lmin", type=float, default=0.016, help="shortest overhang, m (default 0.016)")
+    s.add_argument("--lmax", type=float, default=0.05, help="longest overhang, m (default 0.05)")
+    s.add_argument("--count", type=int, default=7, help="overhangs per fabric and direction, geometric (default 7)")
+    s.add_argument("--segments", type=int, default=20, help="segments along the overhang (default 20)")
+    s.add_argument("--table-segments", type=int, default=3, help="segments clamped on the table (default 3)")
+    s.add_argument("--damping", type=float, default=5.0, help="damping rate, 1/s (default 5)")
+    s.add_argument("--dt", type=float, default=0.02, help="time step, s (default 0.02)")
+    s.add_argument("--t-final", type=float, default=3.0, help="simulated time, s (default 3)")
+    s.add_argument("-o", "--output", help="output file (default stdout)")
+    m = sub.add_parser("measure", help="measure the bending lengths from a finished run")
+    m.add_argument("checkpoint", help="final checkpoint of the run")
+    m.add_argument("--scene", required=True, help="the scene the run used")
+    m.add_argument("--log", required=True, help="the run's standard output (holds the fabric summary)")
+    m.add_argument("--tolerance", type=float, default=0.10, help="relative tolerance on c (default 0.10)")
+    m.add_argument("--check", action="store_true", help="exit with status 1 unless every bending length is within the tolerance")
+    m.add_argument("--json", action="store_true", help="print JSON")
+    args = parser.parse_args()
+    if args.command == "scene":
+        if args.output:
+            with open(args.output, "w") as out:
+                write_scene(args, out)
+        else:
+            write_scene(args, sys.stdout)
+        return
+    results, ok = measure(args)
+    if args.json:
+        json.dump(results, sys.stdout, indent=1)
+        print()
+    else:
+        print(f"{'fabric':18s} {'dir':5s} {'c=(B/W)^1/3':>12s} {'l* (41.5deg)':>13s} {'c=0.5093 l*':>12s} {'error':>7s}")
+        for r in results:
+            sim = f"{r['c_sim_cm']:.3f} cm" if r["c_sim_cm"] else "not bracketed"
+            lst = f"{r['overhang_cm']:.3f} cm" if r["overhang_cm"] else "-"
+            err = f"{100 * r['error']:+.1f}%" if r["error"] is not None else "-"
+            print(f"{r['fabric']:18s} {r['direction']:5s} {r['c_theory_cm']:9.3f} cm {lst:>13s} {sim:>12s} {err:>7s}")
+            print("    (overhang cm, tip angle deg): " + ", ".join(f"({l}, {t})" for l, t in r["angles"]))
+    if args.check and not ok:
+        print(f"FAILED: a bending length differs from (B/W)^(1/3) by more than {100 * args.tolerance:.0f}% or 41.5 deg was not bracketed", file=sys.stderr)
+        sys.exit(1)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,754 @@
+/* ClothCollision (see collision.h). */
+#include "collision.h"
+#include "log.h"
+
+const char *const ClothCollisionSearches[] = {"grid", "brute_force", "ClothCollisionSearch", "CLOTH_COLLISION_SEARCH_", NULL};
+
+#define COLLISION_MAX_CELLS 8000000    /* the grid's cells grow beyond -collision_cell_size rather than exceed this */
+#define COLLISION_BARYCENTRIC_TOL 1e-9 /* a segment through a shared edge hits at least one of its triangles */
+
+/* A mesh body and this rank's cell grid over it. */
+typedef struct {
+  Body                 body;
+  const MeshTriangles *mesh;
+  const PetscReal     *face_normal;
+  PetscReal            body_lo[3], body_hi[3]; /* bounding box, slightly inflated */
+  PetscReal           *tri_lo, *tri_hi;        /* triangle boxes, slightly inflated, 3 per triangle */
+  PetscReal            mean_edge;
+  /* the grid */
+  PetscBool built;
+  PetscReal covered_lo[3], covered_hi[3]; /* particles inside this box are served by the grid */
+  PetscReal lo[3], hi[3], cell[3];        /* the grid: covered box clipped to the body box */
+  PetscInt  n[3];                         /* cells per axis (0: the covered box misses the body) */
+  PetscInt *cell_start, *cell_tris;       /* CSR: triangles touching each cell */
+  PetscInt *stamp;                        /* per triangle: last query that tested it */
+  PetscInt  query;
+} CollisionMesh;
+
+/* The first triangle a segment crosses from the outside (smallest parameter, then lowest index). */
+typedef struct {
+  PetscInt  triangle; /* -1: none */
+  PetscReal t;
+  PetscReal point[3];
+} SegmentHit;
+
+/* A contact kept from one step to the next (meshes need the plane of the triangle that was hit). */
+typedef struct {
+  PetscInt  body; /* -1: none */
+  PetscReal normal[3], anchor[3];
+} HeldContact;
+
+struct _n_ClothCollision {
+  Cloth                cloth;
+  MPI_Comm             comm;
+  Scene                scene;
+  ClothCollisionSearch search;
+  PetscReal            cell_size, margin;
+  PetscBool            verify, view, setup;
+  PetscInt             nbodies;
+  Body                *bodies;
+  CollisionMesh       *meshes; /* one per body; used for mesh bodies */
+  HeldContact         *held;   /* per owned particle */
+  Vec                  force;
+  ClothCollisionStats  stats, local;
+};
+
+static inline PetscReal Dot3(const PetscReal a[3], const PetscReal b[3])
+{
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+static inline void Cross3(const PetscReal a[3], const PetscReal b[3], PetscReal c[3])
+{
+  c[0] = a[1] * b[2] - a[2] * b[1];
+  c[1] = a[2] * b[0] - a[0] * b[2];
+  c[2] = a[0] * b[1] - a[1] * b[0];
+}
+static inline PetscBool BoxesOverlap(const PetscReal alo[3], const PetscReal ahi[3], const PetscReal blo[3], const PetscReal bhi[3])
+{
+  for (PetscInt k = 0; k < 3; k++)
+    if (ahi[k] < blo[k] || bhi[k] < alo[k]) return PETSC_FALSE;
+  return PETSC_TRUE;
+}
+
+/* ------------------------------------------------------------------------------------------------------------ */
+/* Segment against triangles                                                                                   */
+
+/* Does the segment p0 + t d, t in [0, 1], cross triangle (a, b, c) from its outer side (d . n < 0)?
+   Moller-Trumbore; det = -d . n, so only det > 0 counts. */
+static PetscBool SegmentCrossesTriangle(const PetscReal p0[3], const PetscReal d[3], const PetscReal a[3], const PetscReal b[3], const PetscReal c[3], PetscReal *t)
+{
+  PetscReal e1[3], e2[3], pvec[3], s[3], q[3], det, inv, u, v;
+
+  for (PetscInt k = 0; k < 3; k++) {
+    e1[k] = b[k] - a[k];
+    e2[k] = c[k] - a[k];
+    s[k]  = p0[k] - a[k];
+  }
+  Cross3(d, e2, pvec);
+  det = Dot3(e1, pvec);
+  if (!(det > 0)) return PETSC_FALSE;
+  inv = 1 / det;
+  u   = Dot3(s, pvec) * inv;
+  if (u < -COLLISION_BARYCENTRIC_TOL || u > 1 + COLLISION_BARYCENTRIC_TOL) return PETSC_FALSE;
+  Cross3(s, e1, q);
+  v = Dot3(d, q) * inv;
+  if (v < -COLLISION_BARYCENTRIC_TOL || u + v > 1 + COLLISION_BARYCENTRIC_TOL) return PETSC_FALSE;
+  *t = Dot3(e2, q) * inv;
+  return (*t >= 0 && *t <= 1) ? PETSC_TRUE : PETSC_FALSE;
+}
+
+/* The paper's triangle-box rejection, then the exact test; keeps the first hit. */
+static void TestTriangle(const CollisionMesh *cm, PetscInt tri, const PetscReal p0[3], const PetscReal d[3], const PetscReal seg_lo[3], const PetscReal seg_hi[3], SegmentHit *hit, PetscInt64 *tests)
+{
+  const PetscInt *v = &cm->mesh->tris[3 * tri];
+  PetscReal       t;
+
+  if (!BoxesOverlap(seg_lo, seg_hi, &cm->tri_lo[3 * tri], &cm->tri_hi[3 * tri])) return;
+  if (Dot3(&cm->face_normal[3 * tri], &cm->face_normal[3 * tri]) == 0) return; /* degenerate */
+  (*tests)++;
+  if (!SegmentCrossesTriangle(p0, d, &cm->mesh->coords[3 * v[0]], &cm->mesh->coords[3 * v[1]], &cm->mesh->coords[3 * v[2]], &t)) return;
+  if (hit->triangle < 0 || t < hit->t || (t == hit->t && tri < hit->triangle)) {
+    hit->triangle = tri;
+    hit->t        = t;
+  }
+}
+
+static void SegmentBox(const PetscReal p0[3], const PetscReal p1[3], PetscReal lo[3], PetscReal hi[3])
+{
+  for (PetscInt k = 0; k < 3; k++) {
+    lo[k] = PetscMin(p0[k], p1[k]);
+    hi[k] = PetscMax(p0[k], p1[k]);
+  }
+}
+
+static void FinishHit(const PetscReal p0[3], const PetscReal d[3], SegmentHit *hit)
+{
+  if (hit->triangle >= 0)
+    for (PetscInt k = 0; k < 3; k++) hit->point[k] = p0[k] + hit->t * d[k];
+}
+
+static void SearchBruteForce(const CollisionMesh *cm, const PetscReal p0[3], const PetscReal p1[3], SegmentHit *hit, PetscInt64 *tests)
+{
+  PetscReal d[3], lo[3], hi[3];
+
+  hit->triangle = -1;
+  for (PetscInt k = 0; k < 3; k++) d[k] = p1[k] - p0[k];
+  SegmentBox(p0, p1, lo, hi);
+  if (!BoxesOverlap(lo, hi, cm->body_lo, cm->body_hi)) return;
+  for (PetscInt tri = 0; tri < cm->mesh->ntris; tri++) TestTriangle(cm, tri, p0, d, lo, hi, hit, tests);
+  FinishHit(p0, d, hit);
+}
+
+/* Clips p0 + t d to the grid box: [*t0, *t1] (empty when *t0 > *t1). */
+static void ClipToGrid(const CollisionMesh *cm, const PetscReal p0[3], const PetscReal d[3], PetscReal *t0, PetscReal *t1)
+{
+  *t0 = 0;
+  *t1 = 1;
+  for (PetscInt k = 0; k < 3 && *t0 <= *t1; k++) {
+    if (d[k] == 0) {
+      if (p0[k] < cm->lo[k] || p0[k] > cm->hi[k]) *t0 = 2;
+      continue;
+    }
+    PetscReal ta = (cm->lo[k] - p0[k]) / d[k], tb = (cm->hi[k] - p0[k]) / d[k];
+    *t0 = PetscMax(*t0, PetscMin(ta, tb));
+    *t1 = PetscMin(*t1, PetscMax(ta, tb));
+  }
+}
+
+/* The cell grid: every cell the segment passes through, in order (Amanatides & Woo's 3D DDA), each
+   triangle tested once per query. */
+static void SearchGrid(CollisionMesh *cm, const PetscReal p0[3], const PetscReal p1[3], SegmentHit *hit, PetscInt64 *tests)
+{
+  PetscReal d[3], lo[3], hi[3], t0, t1, tmax[3], tdelta[3];
+  PetscInt  cell[3], step[3];
+
+  hit->triangle = -1;
+  for (PetscInt k = 0; k < 3; k++) d[k] = p1[k] - p0[k];
+  SegmentBox(p0, p1, lo, hi);
+  if (!cm->n[0] || !BoxesOverlap(lo, hi, cm->body_lo, cm->body_hi)) return;
+  ClipToGrid(cm, p0, d, &t0, &t1);
+  if (t0 > t1) return;
+  cm->query++;
+  for (PetscInt k = 0; k < 3; k++) {
+    const PetscReal s = p0[k] + t0 * d[k];
+    cell[k]           = PetscMin(cm->n[k] - 1, PetscMax(0, (PetscInt)PetscFloorReal((s - cm->lo[k]) / cm->cell[k])));
+    step[k]           = d[k] > 0 ? 1 : (d[k] < 0 ? -1 : 0);
+    tmax[k]           = step[k] ? (cm->lo[k] + (cell[k] + (step[k] > 0 ? 1 : 0)) * cm->cell[k] - p0[k]) / d[k] : PETSC_MAX_REAL;
+    tdelta[k]         = step[k] ? cm->cell[k] / PetscAbsReal(d[k]) : PETSC_MAX_REAL;
+  }
+  for (;;) {
+    const PetscInt c = (cell[0] * cm->n[1] + cell[1]) * cm->n[2] + cell[2];
+    PetscInt       k = 0;
+
+    for (PetscInt j = cm->cell_start[c]; j < cm->cell_start[c + 1]; j++) {
+      const PetscInt tri = cm->cell_tris[j];
+      if (cm->stamp[tri] == cm->query) continue;
+      cm->stamp[tri] = cm->query;
+      TestTriangle(cm, tri, p0, d, lo, hi, hit, tests);
+    }
+    if (tmax[1] < tmax[k]) k = 1;
+    if (tmax[2] < tmax[k]) k = 2;
+    if (tmax[k] > t1) break;
+    cell[k] += step[k];
+    if (cell[k] < 0 || cell[k] >= cm->n[k]) break;
+    tmax[k] += tdelta[k];
+  }
+  FinishHit(p0, d, hit);
+}
+
+/* ------------------------------------------------------------------------------------------------------------ */
+/* The per-rank grid                                                                                           */
+
+/* Cell index range [first, last] along each axis touched by the box [lo, hi] (clamped to the grid). */
+static void CellRange(const CollisionMesh *cm, const PetscReal lo[3], const PetscReal hi[3], PetscInt first[3], PetscInt last[3])
+{
+  for (PetscInt k = 0; k < 3; k++) {
+    first[k] = PetscMax(0, (PetscInt)PetscFloorReal((lo[k] - cm->lo[k]) / cm->cell[k]));
+    last[k]  = PetscMin(cm->n[k] - 1, (PetscInt)PetscFloorReal((hi[k] - cm->lo[k]) / cm->cell[k]));
+  }
+}
+
+/* Lists the triangles of each cell: one pass counts, one fills. */
+static PetscErrorCode GridFill(CollisionMesh *cm)
+{
+  const PetscInt ncells = cm->n[0] * cm->n[1] * cm->n[2];
+  PetscInt       first[3], last[3], *fill;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscFree(cm->cell_start));
+  PetscCall(PetscFree(cm->cell_tris));
+  PetscCall(PetscCalloc1(ncells + 1, &cm->cell_start));
+  for (PetscInt pass = 0; pass < 2; pass++) {
+    for (PetscInt tri = 0; tri < cm->mesh->ntris; tri++) {
+      if (!BoxesOverlap(&cm->tri_lo[3 * tri], &cm->tri_hi[3 * tri], cm->lo, cm->hi)) continue;
+      CellRange(cm, &cm->tri_lo[3 * tri], &cm->tri_hi[3 * tri], first, last);
+      for (PetscInt i = first[0]; i <= last[0]; i++)
+        for (PetscInt j = first[1]; j <= last[1]; j++)
+          for (PetscInt l = first[2]; l <= last[2]; l++) {
+            const PetscInt c = (i * cm->n[1] + j) * cm->n[2] + l;
+            if (pass == 0)
+              cm->cell_start[c + 1]++;
+            else
+              cm->cell_tris[fill[c]++] = tri;
+          }
+    }
+    if (pass == 0) {
+      for (PetscInt c = 0; c < ncells; c++) cm->cell_start[c + 1] += cm->cell_start[c];
+      PetscCall(PetscMalloc1(cm->cell_start[ncells] + 1, &cm->cell_tris));
+      PetscCall(PetscMalloc1(ncells, &fill));
+      PetscCall(PetscArraycpy(fill, cm->cell_start, ncells));
+    }
+  }
+  PetscCall(PetscFree(fill));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Builds the grid over the particle box [plo, phi] grown by the margin and clipped to the body's box. */
+static PetscErrorCode GridBuild(CollisionMesh *cm, const PetscReal plo[3], const PetscReal phi[3], PetscReal margin, PetscReal cell_size)
+{
+  PetscReal size  = cell_size > 0 ? cell_size : 2 * cm->mean_edge;
+  PetscBool empty = PETSC_FALSE;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscLogEventBegin(ClothLog.collision_grid, 0, 0, 0, 0));
+  for (PetscInt k = 0; k < 3; k++) {
+    cm->covered_lo[k] = plo[k] - margin;
+    cm->covered_hi[k] = phi[k] + margin;
+    cm->lo[k]         = PetscMax(cm->covered_lo[k], cm->body_lo[k]);
+    cm->hi[k]         = PetscMin(cm->covered_hi[k], cm->body_hi[k]);
+    if (!(cm->lo[k] < cm->hi[k])) empty = PETSC_TRUE;
+  }
+  cm->built = PETSC_TRUE;
+  cm->n[0] = cm->n[1] = cm->n[2] = 0;
+  if (!empty) {
+    for (;;) {
+      for (PetscInt k = 0; k < 3; k++) cm->n[k] = PetscMax(1, (PetscInt)PetscCeilReal((cm->hi[k] - cm->lo[k]) / size));
+      if ((PetscReal)cm->n[0] * cm->n[1] * cm->n[2] <= COLLISION_MAX_CELLS) break;
+      size *= 1.25;
+    }
+    for (PetscInt k = 0; k < 3; k++) cm->cell[k] = (cm->hi[k] - cm->lo[k]) / cm->n[k];
+    PetscCall(GridFill(cm));
+  }
+  PetscCall(PetscLogEventEnd(ClothLog.collision_grid, 0, 0, 0, 0));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Triangle boxes, the body box and the mean edge length (the default cell size is twice that). The boxes are
+   inflated by a small fraction of the mean edge so that round-off in the grid walk cannot skip a triangle. */
+static PetscErrorCode MeshSetUp(CollisionMesh *cm, Body body)
+{
+  PetscReal eps, sum = 0;
+
+  PetscFunctionBeginUser;
+  cm->body = body;
+  PetscCall(BodyGetMesh(body, &cm->mesh, &cm->face_normal, cm->body_lo, cm->body_hi));
+  PetscCall(PetscMalloc3(3 * cm->mesh->ntris, &cm->tri_lo, 3 * cm->mesh->ntris, &cm->tri_hi, cm->mesh->ntris, &cm->stamp));
+  for (PetscInt tri = 0; tri < cm->mesh->ntris; tri++) {
+    const PetscInt *v = &cm->mesh->tris[3 * tri];
+    cm->stamp[tri]    = -1;
+    for (PetscInt k = 0; k < 3; k++) {
+      const PetscReal a = cm->mesh->coords[3 * v[0] + k], b = cm->mesh->coords[3 * v[1] + k], c = cm->mesh->coords[3 * v[2] + k];
+      cm->tri_lo[3 * tri + k] = PetscMin(a, PetscMin(b, c));
+      cm->tri_hi[3 * tri + k] = PetscMax(a, PetscMax(b, c));
+    }
+    for (PetscInt e = 0; e < 3; e++) {
+      const PetscReal *a = &cm->mesh->coords[3 * v[e]], *b = &cm->mesh->coords[3 * v[(e + 1) % 3]];
+      sum += PetscSqrtReal((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
+    }
+  }
+  cm->mean_edge = sum / (3 * cm->mesh->ntris);
+  eps           = 1e-3 * cm->mean_edge;
+  for (PetscInt j = 0; j < 3 * cm->mesh->ntris; j++) {
+    cm->tri_lo[j] -= eps;
+    cm->tri_hi[j] += eps;
+  }
+  for (PetscInt k = 0; k < 3; k++) {
+    cm->body_lo[k] -= eps;
+    cm->body_hi[k] += eps;
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Rebuilds each mesh grid when a segment end lies outside the region it covers. Local (no communication). */
+static PetscErrorCode UpdateGrids(ClothCollision col, const PetscScalar *xp, const PetscScalar *x, PetscInt nlocal)
+{
+  PetscReal lo[3] = {PETSC_MAX_REAL, PETSC_MAX_REAL, PETSC_MAX_REAL}, hi[3] = {-PETSC_MAX_REAL, -PETSC_MAX_REAL, -PETSC_MAX_REAL};
+
+  PetscFunctionBeginUser;
+  if (nlocal == 0) PetscFunctionReturn(PETSC_SUCCESS);
+  for (PetscInt i = 0; i < nlocal; i++)
+    for (PetscInt k = 0; k < 3; k++) {
+      lo[k] = PetscMin(lo[k], PetscMin(xp[3 * i + k], x[3 * i + k]));
+      hi[k] = PetscMax(hi[k], PetscMax(xp[3 * i + k], x[3 * i + k]));
+    }
+  for (PetscInt b = 0; b < col->nbodies; b++) {
+    CollisionMesh *cm = &col->meshes[b];
+    PetscBool      inside;
+
+    if (!cm->mesh) continue;
+    inside = cm->built;
+    for (PetscInt k = 0; k < 3 && inside; k++)
+      if (lo[k] < cm->covered_lo[k] || hi[k] > cm->covered_hi[k]) inside = PETSC_FALSE;
+    if (inside) continue;
+    PetscCall(GridBuild(cm, lo, hi, col->margin, col->cell_size));
+    col->local.grid_rebuilds++;
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* ------------------------------------------------------------------------------------------------------------ */
+/* Response                                                                                                    */
+
+/* Removes the velocity into the body and applies Coulomb friction with normal velocity change
+   max(removed normal velocity, dvn_held) (dvn_held: what the constraint cancels, h |F_n| / m). */
+static void RespondVelocity(const SceneBody *d, const PetscReal n[3], PetscReal dvn_held, PetscScalar v[3])
+{
+  PetscReal vn = Dot3(v, n), dvn = 0, vt[3], vt_norm;
+
+  if (vn < 0) {
+    for (PetscInt k = 0; k < 3; k++) v[k] -= vn * n[k];
+    dvn = -vn;
+    vn  = 0;
+  }
+  dvn = PetscMax(dvn, dvn_held);
+  for (PetscInt k = 0; k < 3; k++) vt[k] = v[k] - vn * n[k];
+  vt_norm = PetscSqrtReal(Dot3(vt, vt));
+  if (vt_norm <= d->friction_static * dvn) {
+    for (PetscInt k = 0; k < 3; k++) v[k] = vn * n[k];
+  } else {
+    const PetscReal scale = PetscMax(0.0, 1 - d->friction_kinetic * dvn / vt_norm);
+    for (PetscInt k = 0; k < 3; k++) v[k] = vn * n[k] + scale * vt[k];
+  }
+}
+
+/* Contacts are kept within this distance beyond the thickness (so that a particle held on a curved surface
+   stays held), and held ones are released beyond it. */
+static PetscReal ContactSlop(const SceneBody *d)
+{
+  return PetscMax(0.5 * d->thickness, 1e-5);
+}
+
+/* The first triangle of mesh cm that the segment p0 -> p1 crosses from the outside, by the chosen search. */
+static void SearchSegment(ClothCollision col, CollisionMesh *cm, const PetscReal p0[3], const PetscReal p1[3], SegmentHit *hit)
+{
+  if (col->search == CLOTH_COLLISION_SEARCH_GRID)
+    SearchGrid(cm, p0, p1, hit, &col->local.triangle_tests);
+  else
+    SearchBruteForce(cm, p0, p1, hit, &col->local.triangle_tests);
+}
+
+/* Mesh body b: the first triangle crossed puts the particle at the crossing point, offset by the thickness. */
+static PetscErrorCode ContactMesh(ClothCollision col, PetscInt b, const PetscReal p0[3], PetscScalar x[3], HeldContact *contact)
+{
+  CollisionMesh   *cm = &col->meshes[b];
+  const SceneBody *d;
+  SegmentHit       hit, check;
+
+  PetscFunctionBeginUser;
+  PetscCall(BodyGetDescription(cm->body, &d));
+  SearchSegment(col, cm, p0, x, &hit);
+  if (col->verify) {
+    PetscInt64 ignored = 0;
+    SearchBruteForce(cm, p0, x, &check, &ignored);
+    PetscCheck(hit.triangle == check.triangle && (hit.triangle < 0 || hit.t == check.t), PETSC_COMM_SELF, PETSC_ERR_PLIB,
+               "Collision search %s found triangle %" PetscInt_FMT " (t = %.17g), brute force triangle %" PetscInt_FMT " (t = %.17g), for the segment (%g, %g, %g) -> (%g, %g, %g)", ClothCollisionSearches[col->search], hit.triangle, (double)hit.t,
+               check.triangle, (double)check.t, (double)p0[0], (double)p0[1], (double)p0[2], (double)x[0], (double)x[1], (double)x[2]);
+    if (hit.triangle >= 0) col->local.verified++;
+  }
+  if (hit.triangle < 0) PetscFunctionReturn(PETSC_SUCCESS);
+  col->local.crossings++;
+  contact->body = b;
+  for (PetscInt k = 0; k < 3; k++) {
+    contact->normal[k] = cm->face_normal[3 * hit.triangle + k];
+    contact->anchor[k] = hit.point[k];
+    x[k]               = hit.point[k] + d->thickness * contact->normal[k];
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Analytic body b: within the thickness (plus the slop) is a contact; inside the thickness is pushed out. */
+static PetscErrorCode ContactAnalytic(ClothCollision col, PetscInt b, PetscScalar x[3], HeldContact *contact)
+{
+  const SceneBody *d;
+  PetscReal        dist, n[3];
+
+  PetscFunctionBeginUser;
+  PetscCall(BodyGetDescription(col->bodies[b], &d));
+  PetscCall(BodySignedDistance(col->bodies[b], x, &dist, n));
+  if (dist >= d->thickness + ContactSlop(d)) PetscFunctionReturn(PETSC_SUCCESS);
+  if (dist < d->thickness)
+    for (PetscInt k = 0; k < 3; k++) x[k] += (d->thickness - dist) * n[k];
+  contact->body = b;
+  for (PetscInt k = 0; k < 3; k++) {
+    contact->normal[k] = n[k];
+    contact->anchor[k] = x[k] - d->thickness * n[k];
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* A mesh contact held from the last step, without a new crossing: kept while the particle stays within the
+   slop of the plane of the triangle it hit (pushed back to the thickness if it sank below it). */
+static PetscErrorCode KeepHeldMeshContact(ClothCollision col, const HeldContact *held, PetscScalar x[3], HeldContact *contact)
+{
+  const SceneBody *d;
+  PetscReal        r[3], dist;
+
+  PetscFunctionBeginUser;
+  if (held->body < 0 || !col->meshes[held->body].mesh) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(BodyGetDescription(col->bodies[held->body], &d));
+  for (PetscInt k = 0; k < 3; k++) r[k] = x[k] - held->anchor[k];
+  dist = Dot3(r, held->normal);
+  if (dist >= d->thickness + ContactSlop(d)) PetscFunctionReturn(PETSC_SUCCESS);
+  if (dist < d->thickness)
+    for (PetscInt k = 0; k < 3; k++) x[k] += (d->thickness - dist) * held->normal[k];
+  *contact = *held;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The corrections (offset, held-contact projection, friction) move the particle from where the search left it;
+   in a concave region (neck and shoulders) that move may enter the body. The segment from the previous position
+   (outside) to the corrected one is searched again, and a crossing puts the particle halfway between the previous
+   position and that crossing, which is outside. */
+static PetscErrorCode KeepOutside(ClothCollision col, const PetscReal p0[3], PetscScalar x[3])
+{
+  PetscFunctionBeginUser;
+  for (PetscInt b = 0; b < col->nbodies; b++) {
+    CollisionMesh *cm = &col->meshes[b];
+    SegmentHit     hit;
+
+    if (!cm->mesh) continue;
+    SearchSegment(col, cm, p0, x, &hit);
+    if (hit.triangle < 0) continue;
+    for (PetscInt k = 0; k < 3; k++) x[k] = p0[k] + 0.5 * hit.t * (x[k] - p0[k]);
+    col->local.fallbacks++;
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* One owned particle: detection against every body, response, and whether it is held for the next step. */
+static PetscErrorCode ContactParticle(ClothCollision col, PetscInt i, PetscReal h, PetscReal mass, const PetscScalar p0[3], const PetscScalar f[3], PetscScalar x[3], PetscScalar v[3], PetscScalar normal[3])
+{
+  HeldContact      contact = {-1, {0, 0, 0}, {0, 0, 0}};
+  const SceneBody *d;
+  PetscReal        fn, dv[3], dvn;
+
+  PetscFunctionBeginUser;
+  for (PetscInt b = 0; b < col->nbodies; b++) {
+    if (col->meshes[b].mesh)
+      PetscCall(ContactMesh(col, b, p0, x, &contact));
+    else
+      PetscCall(ContactAnalytic(col, b, x, &contact));
+  }
+  if (contact.body < 0) PetscCall(KeepHeldMeshContact(col, &col->held[i], x, &contact));
+  col->held[i].body = -1;
+  for (PetscInt k = 0; k < 3; k++) normal[k] = 0;
+  if (contact.body < 0) PetscFunctionReturn(PETSC_SUCCESS);
+  col->local.contacts++;
+  PetscCall(BodyGetDescription(col->bodies[contact.body], &d));
+  fn = Dot3(f, contact.normal);
+  for (PetscInt k = 0; k < 3; k++) dv[k] = -v[k];
+  RespondVelocity(d, contact.normal, h * PetscMax(0.0, -fn) / mass, v);
+  /* The step moved the particle by h v_{n+1} (both Euler forms that hold contacts do): redo the tangential
+     part with the velocity friction left, or a stuck particle would still creep by h^2 a_t every step. */
+  for (PetscInt k = 0; k < 3; k++) dv[k] += v[k];
+  dvn = Dot3(dv, contact.normal);
+  for (PetscInt k = 0; k < 3; k++) x[k] += h * (dv[k] - dvn * contact.normal[k]);
+  PetscCall(KeepOutside(col, p0, x));
+  if (fn < 0) { /* the force pushes into the body: hold the particle on the surface during the next step */
+    col->held[i] = contact;
+    for (PetscInt k = 0; k < 3; k++) normal[k] = contact.normal[k];
+    col->local.held++;
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* ------------------------------------------------------------------------------------------------------------ */
+/* Object                                                                                                      */
+
+PetscErrorCode ClothCollisionCreate(Cloth cloth, Scene scene, ClothCollision *collision)
+{
+  ClothCollision col;
+
+  PetscFunctionBeginUser;
+  PetscCall(ClothLogRegister());
+  PetscCall(PetscNew(&col));
+  col->cloth   = cloth;
+  col->scene   = scene;
+  col->comm    = scene->comm;
+  col->nbodies = scene->nbodies;
+  col->search  = CLOTH_COLLISION_SEARCH_GRID;
+  col->margin  = 0.05;
+  *collision   = col;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothCollisionSetSearch(ClothCollision col, ClothCollisionSearch search)
+{
+  PetscFunctionBeginUser;
+  col->search = search;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothCollisionSetVerify(ClothCollision col, PetscBool verify)
+{
+  PetscFunctionBeginUser;
+  col->verify = verify;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothCollisionSetFromOptions(ClothCollision col)
+{
+  PetscFunctionBeginUser;
+  PetscOptionsBegin(col->comm, NULL, "Collisions with rigid bodies", "ClothCollision");
+  PetscCall(PetscOptionsEnum("-collision_search", "How segments find the triangles they may cross", "ClothCollisionSetSearch", ClothCollisionSearches, (PetscEnum)col->search, (PetscEnum *)&col->search, NULL));
+  PetscCall(PetscOptionsReal("-collision_cell_size", "Edge of a grid cell, m (0: twice the mean triangle edge)", "ClothCollisionSetUp", col->cell_size, &col->cell_size, NULL));
+  PetscCall(PetscOptionsReal("-collision_grid_margin", "The grid covers this rank's particles plus this margin, m; it is rebuilt when a particle leaves that region", "ClothCollisionApply", col->margin, &col->margin, NULL));
+  PetscCall(PetscOptionsBool("-collision_verify", "Search every segment with the grid and brute force too; error if they differ", "ClothCollisionSetVerify", col->verify, &col->verify, NULL));
+  PetscCall(PetscOptionsBool("-collision_view", "Print the bodies and the collision set-up", "ClothCollisionView", col->view, &col->view, NULL));
+  PetscOptionsEnd();
+  PetscCheck(col->cell_size >= 0 && col->margin > 0, col->comm, PETSC_ERR_USER_INPUT, "-collision_cell_size must not be negative and -collision_grid_margin must be positive (corrected particles may move slightly beyond their segment), got %g and %g",
+             (double)col->cell_size, (double)col->margin);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The offset direction for a point x inside the body whose nearest surface point is q: from x to q, which is
+   outward also when q is on an edge or vertex (where the face normal n of one triangle may point into a
+   concave neighbour); n when x is on the surface already. */
+static PetscErrorCode OutwardFromInside(const PetscScalar x[3], const PetscReal q[3], PetscReal n[3])
+{
+  PetscReal u[3], len;
+
+  PetscFunctionBeginUser;
+  for (PetscInt k = 0; k < 3; k++) u[k] = q[k] - x[k];
+  len = PetscSqrtReal(Dot3(u, u));
+  if (len > 1e-12)
+    for (PetscInt k = 0; k < 3; k++) n[k] = u[k] / len;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Particles that start inside a body go to the nearest surface point, offset by the thickness, at rest. */
+static PetscErrorCode PushOutStartingInside(ClothCollision col)
+{
+  Vec          x, v;
+  PetscScalar *xa, *va;
+  PetscInt     nlocal, pushed = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(ClothGetState(col->cloth, &x, &v));
+  PetscCall(ClothGetSizes(col->cloth, &nlocal, NULL));
+  PetscCall(VecGetArray(x, &xa));
+  PetscCall(VecGetArray(v, &va));
+  for (PetscInt i = 0; i < nlocal; i++)
+    for (PetscInt b = 0; b < col->nbodies; b++) {
+      const SceneBody *d;
+      PetscBool        inside;
+      PetscReal        q[3], n[3];
+
+      PetscCall(BodyIsInside(col->bodies[b], &xa[3 * i], &inside));
+      if (!inside) continue;
+      PetscCall(BodyGetDescription(col->bodies[b], &d));
+      PetscCall(BodyNearestSurfacePoint(col->bodies[b], &xa[3 * i], q, n));
+      PetscCall(OutwardFromInside(&xa[3 * i], q, n));
+      for (PetscInt k = 0; k < 3; k++) {
+        xa[3 * i + k] = q[k] + d->thickness * n[k];
+        va[3 * i + k] = 0;
+      }
+      pushed++;
+    }
+  PetscCall(VecRestoreArray(v, &va));
+  PetscCall(VecRestoreArray(x, &xa));
+  PetscCallMPI(MPI_Allreduce(&pushed, &col->stats.pushed_out, 1, MPIU_INT, MPI_SUM, col->comm));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothCollisionSetUp(ClothCollision col)
+{
+  PetscInt nlocal;
+
+  PetscFunctionBeginUser;
+  if (col->setup) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(ClothGetSizes(col->cloth, &nlocal, NULL));
+  PetscCall(PetscCalloc2(col->nbodies, &col->bodies, col->nbodies, &col->meshes));
+  PetscCall(PetscMalloc1(nlocal, &col->held));
+  for (PetscInt i = 0; i < nlocal; i++) col->held[i].body = -1;
+  for (PetscInt b = 0; b < col->nbodies; b++) {
+    char context[CLOTH_PATH_LEN + CLOTH_NAME_LEN + 32];
+
+    PetscCall(PetscSNPrintf(context, sizeof(context), "scene %s, body '%s'", col->scene->path, col->scene->bodies[b].name));
+    PetscCall(BodyCreate(col->comm, &col->scene->bodies[b], context, &col->bodies[b]));
+    if (col->scene->bodies[b].type == SCENE_BODY_MESH) PetscCall(MeshSetUp(&col->meshes[b], col->bodies[b]));
+  }
+  PetscCall(ClothCreateStateVec(col->cloth, &col->force));
+  PetscCall(PushOutStartingInside(col));
+  col->setup = PETSC_TRUE;
+  if (col->view) PetscCall(ClothCollisionView(col, PETSC_VIEWER_STDOUT_(col->comm)));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothCollisionGetBodies(ClothCollision col, PetscInt *nbodies, const Body **bodies)
+{
+  PetscFunctionBeginUser;
+  if (nbodies) *nbodies = col->nbodies;
+  if (bodies) *bodies = col->bodies;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Sums this step's local counts into stats (grid rebuilds accumulate over the run). */
+static PetscErrorCode ReduceStats(ClothCollision col)
+{
+  PetscInt   local[6] = {col->local.contacts, col->local.held, col->local.crossings, col->local.verified, col->local.grid_rebuilds, col->local.fallbacks}, global[6];
+  PetscInt64 tests;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Allreduce(local, global, 6, MPIU_INT, MPI_SUM, col->comm));
+  PetscCallMPI(MPI_Allreduce(&col->local.triangle_tests, &tests, 1, MPIU_INT64, MPI_SUM, col->comm));
+  col->stats.contacts  = global[0];
+  col->stats.held      = global[1];
+  col->stats.crossings = global[2];
+  col->stats.verified += global[3];
+  col->stats.grid_rebuilds  = global[4];
+  col->stats.fallbacks      = global[5];
+  col->stats.triangle_tests = tests;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothCollisionApply(ClothCollision col, Vec previous, PetscReal h)
+{
+  Vec                x, v, normals;
+  const PetscScalar *xp, *f;
+  PetscScalar       *xa, *va, *na;
+  const PetscReal   *mass;
+  const PetscBool   *fixed;
+  PetscInt           nlocal;
+
+  PetscFunctionBeginUser;
+  if (!col->nbodies) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(ClothCollisionSetUp(col));
+  PetscCall(ClothGetState(col->cloth, &x, &v));
+  PetscCall(ClothComputeForces(col->cloth, x, v, col->force)); /* decides friction and release; outside the event */
+  PetscCall(PetscLogEventBegin(ClothLog.collision, 0, 0, 0, 0));
+  PetscCall(ClothGetSizes(col->cloth, &nlocal, NULL));
+  PetscCall(ClothGetMasses(col->cloth, &mass, &fixed));
+  PetscCall(ClothGetContactNormals(col->cloth, &normals));
+  PetscCall(VecGetArrayRead(previous, &xp));
+  PetscCall(VecGetArrayRead(col->force, &f));
+  PetscCall(VecGetArray(x, &xa));
+  PetscCall(VecGetArray(v, &va));
+  PetscCall(VecGetArray(normals, &na));
+  col->local.contacts = col->local.held = col->local.crossings = col->local.verified = col->local.fallbacks = 0;
+  col->local.triangle_tests                                                                                 = 0;
+  if (col->search == CLOTH_COLLISION_SEARCH_GRID) PetscCall(UpdateGrids(col, xp, xa, nlocal));
+  for (PetscInt i = 0; i < nlocal; i++) {
+    if (fixed[i]) continue;
+    PetscCall(ContactParticle(col, i, h, mass[i], &xp[3 * i], &f[3 * i], &xa[3 * i], &va[3 * i], &na[3 * i]));
+  }
+  PetscCall(VecRestoreArray(normals, &na));
+  PetscCall(VecRestoreArray(v, &va));
+  PetscCall(VecRestoreArray(x, &xa));
+  PetscCall(VecRestoreArrayRead(col->force, &f));
+  PetscCall(VecRestoreArrayRead(previous, &xp));
+  PetscCall(PetscLogEventEnd(ClothLog.collision, 0, 0, 0, 0));
+  PetscCall(ReduceStats(col));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothCollisionGetStats(ClothCollision col, ClothCollisionStats *stats)
+{
+  PetscFunctionBeginUser;
+  *stats = col->stats;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothCollisionCountInside(ClothCollision col, PetscInt *inside)
+{
+  Vec                x;
+  const PetscScalar *xa;
+  PetscInt           nlocal, count = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(ClothCollisionSetUp(col));
+  PetscCall(ClothGetState(col->cloth, &x, NULL));
+  PetscCall(ClothGetSizes(col->cloth, &nlocal, NULL));
+  PetscCall(VecGetArrayRead(x, &xa));
+  for (PetscInt i = 0; i < nlocal; i++) {
+    PetscBool in = PETSC_FALSE;
+    for (PetscInt b = 0; b < col->nbodies && !in; b++) PetscCall(BodyIsInside(col->bodies[b], &xa[3 * i], &in));
+    if (in) count++;
+  }
+  PetscCall(VecRestoreArrayRead(x, &xa));
+  PetscCallMPI(MPI_Allreduce(&count, inside, 1, MPIU_INT, MPI_SUM, col->comm));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothCollisionView(ClothCollision col, PetscViewer viewer)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscViewerASCIIPrintf(viewer, "Collisions: %" PetscInt_FMT " bod%s, search %s, grid margin %g m, cell size %s", col->nbodies, col->nbodies == 1 ? "y" : "ies", ClothCollisionSearches[col->search], (double)col->margin,
+                                   col->cell_size > 0 ? "" : "twice the mean triangle edge"));
+  if (col->cell_size > 0) PetscCall(PetscViewerASCIIPrintf(viewer, "%g m", (double)col->cell_size));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "%s\n", col->verify ? ", verified against brute force" : ""));
+  PetscCall(PetscViewerASCIIPushTab(viewer));
+  for (PetscInt b = 0; b < col->nbodies && col->setup; b++) PetscCall(BodyView(col->bodies[b], viewer));
+  if (col->setup) PetscCall(PetscViewerASCIIPrintf(viewer, "%" PetscInt_FMT " particles started inside a body and were pushed out\n", col->stats.pushed_out));
+  PetscCall(PetscViewerASCIIPopTab(viewer));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothCollisionDestroy(ClothCollision *collision)
+{
+  ClothCollision col = *collision;
+
+  PetscFunctionBeginUser;
+  if (!col) PetscFunctionReturn(PETSC_SUCCESS);
+  for (PetscInt b = 0; col->meshes && b < col->nbodies; b++) {
+    PetscCall(PetscFree3(col->meshes[b].tri_lo, col->meshes[b].tri_hi, col->meshes[b].stamp));
+    PetscCall(PetscFree(col->meshes[b].cell_start));
+    PetscCall(PetscFree(col->meshes[b].cell_tris));
+  }
+  for (PetscInt b = 0; col->bodies && b < col->nbodies; b++) PetscCall(BodyDestroy(&col->bodies[b]));
+  PetscCall(PetscFree2(col->bodies, col->meshes));
+  PetscCall(PetscFree(col->held));
+  PetscCall(VecDestroy(&col->force));
+  PetscCall(PetscFree(*collision));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}

@@ -1,0 +1,66 @@
+/* ClothCollision: the cloth against rigid bodies (MODEL.md section 6).
+
+   After every (sub-)step, each rank tests the segment that each of its owned particles travelled, from its
+   previous to its new position:
+   - mesh bodies: the paper's rejections (segment box against the body box, then against each triangle's
+     box), then an exact segment-triangle test for triangles crossed from the outside. The triangles come
+     from a per-rank uniform grid of cells (-collision_search grid, default) covering this rank's particles
+     with a margin (-collision_grid_margin) clipped to the body's box; every cell the segment passes through
+     is visited (3D DDA); the grid is rebuilt only when a particle leaves the covered region. With
+     -collision_search brute_force every triangle is tested instead (for checks and timings).
+   - spheres and planes: analytic signed distance at the new position.
+   A hit puts the particle back outside at the body's thickness (meshes: at the crossing point, offset along
+   the face normal; analytic bodies: the nearest point of the offset surface), removes the velocity
+   component into the body and applies Coulomb friction to the tangential velocity (static: it is zeroed when
+   |v_t| <= mu_s dv_n; kinetic: |v_t| is reduced by mu_k dv_n, dv_n being the normal velocity change).
+   Particles in contact whose force pushes into the body are held on the surface for the next step: their
+   contact normal n goes to the cloth (ClothGetContactNormals), so that every integrator filters the
+   direction n out (S = I - n n^T). A contact is released when the force on the particle pulls it away from
+   the body, or when the particle has moved off the surface. Particles that start inside a body (winding
+   number / signed distance) are pushed out to the nearest surface point at set-up. */
+#pragma once
+#include "cloth.h"
+#include "body.h"
+
+typedef struct _n_ClothCollision *ClothCollision;
+
+typedef enum {
+  CLOTH_COLLISION_SEARCH_GRID,       /* per-rank uniform cell grid (the fast path) */
+  CLOTH_COLLISION_SEARCH_BRUTE_FORCE /* every triangle for every particle */
+} ClothCollisionSearch;
+extern const char *const ClothCollisionSearches[];
+
+/* Counts of the last ClothCollisionApply, summed over ranks (grid_rebuilds, pushed_out, verified: since set-up). */
+typedef struct {
+  PetscInt   contacts;       /* particles corrected or held in contact */
+  PetscInt   held;           /* of which held as constraints for the next step */
+  PetscInt   crossings;      /* mesh triangles crossed (new hits) */
+  PetscInt64 triangle_tests; /* exact segment-triangle tests done (after the box rejections) */
+  PetscInt   grid_rebuilds;  /* since set-up, summed over ranks */
+  PetscInt   pushed_out;     /* particles found inside a body at set-up */
+  PetscInt   fallbacks;      /* corrected particles whose corrected move entered a body: put back halfway to the crossing */
+  PetscInt   verified;       /* with -collision_verify: crossings both searches found identically, since set-up */
+} ClothCollisionStats;
+
+/* The bodies of the cloth's scene; nothing is read until ClothCollisionSetUp. */
+PetscErrorCode ClothCollisionCreate(Cloth cloth, Scene scene, ClothCollision *collision);
+/* -collision_search grid|brute_force, -collision_cell_size, -collision_grid_margin, -collision_verify,
+   -collision_view. */
+PetscErrorCode ClothCollisionSetFromOptions(ClothCollision collision);
+PetscErrorCode ClothCollisionSetSearch(ClothCollision collision, ClothCollisionSearch search);
+/* With verify, every mesh segment is searched with both the grid and brute force and a difference is an error. */
+PetscErrorCode ClothCollisionSetVerify(ClothCollision collision, PetscBool verify);
+/* Builds the bodies (reads meshes) and pushes particles that start inside a body out. Needs the cloth set up.
+   Collective. */
+PetscErrorCode ClothCollisionSetUp(ClothCollision collision);
+/* The bodies (borrowed). */
+PetscErrorCode ClothCollisionGetBodies(ClothCollision collision, PetscInt *nbodies, const Body **bodies);
+/* Detects and resolves the contacts of the step that went from previous (the positions before the step) to
+   the cloth's current state, h seconds later; sets the contact constraints for the next step. Collective. */
+PetscErrorCode ClothCollisionApply(ClothCollision collision, Vec previous, PetscReal h);
+PetscErrorCode ClothCollisionGetStats(ClothCollision collision, ClothCollisionStats *stats);
+/* Counts the owned particles inside any body by the robust inside test (winding number for meshes), summed
+   over ranks. Collective. */
+PetscErrorCode ClothCollisionCountInside(ClothCollision collision, PetscInt *inside);
+PetscErrorCode ClothCollisionView(ClothCollision collision, PetscViewer viewer);
+PetscErrorCode ClothCollisionDestroy(ClothCollision *collision);

@@ -1,0 +1,79 @@
+/* Fabric presets (see fabric_presets.h).
+
+   Source: H. Wang, J. F. O'Brien, R. Ramamoorthi, "Data-driven elastic models for cloth: modeling and
+   measurement", ACM Trans. Graph. 30(4):71, 2011 (SIGGRAPH 2011). Its ten measured fabrics are
+   distributed as material files with the ARCSim simulator (materials/<name>.json; fibre content in
+   materials/README). The files give, per fabric:
+     "density"     areal density, kg/m^2 (used as is);
+     "stretching"  rows of [k11, k12, k22, k33] membrane stiffnesses, N/m, row 0 at zero strain. ARCSim's
+                   material_model (cloth physics.cpp) gives the energy per area
+                   0.5 (k11 E11^2 + 2 k12 E11 E22 + k22 E22^2) + 0.5 k33 E12^2 with E the Green strain, so
+                   at small strain the tensile modulus along u is k11, along v k22, and with E12 = gamma/2
+                   the shear modulus (0.5 G gamma^2) is G = k33 / 4;
+     "bending"     rows of 5 stiffnesses k_e (N m) for hinges at 0, 45, 90 degrees to the material u axis,
+                   at curvatures 0, 5, 10, 15, 20 1/m; column 0 (the flat state) is used. A hinge along u
+                   bends the threads that run along v. ARCSim's hinge energy is k_e l^2 / (2 a) theta^2 / 4
+                   (a: the two faces' area); summed over an equilateral mesh under curvature kappa this is
+                   k_e kappa^2 / 16 per area, so the continuum rigidity (0.5 B kappa^2) is B = k_e / 8.
+   The files do not say which of u and v is the warp; here u = warp (i), v = weft (j), so
+   stretch_warp = k11, stretch_weft = k22, bend_warp = row 2 (hinge along v) / 8, bend_weft = row 0 / 8. */
+#include "fabric_presets.h"
+#include <string.h>
+
+typedef struct {
+  const char *name;
+  PetscReal   density;                    /* kg/m^2 */
+  PetscReal   stretch_warp, stretch_weft; /* N/m */
+  PetscReal   shear;                      /* N/m (angle model) */
+  PetscReal   bend_warp, bend_weft;       /* N m (angle model) */
+} FabricPreset;
+
+static const FabricPreset FabricPresets[] = {
+    /* 11oz-black-denim.json: jeans, 99% cotton 1% spandex (README). density 0.324; stretching row 0
+       [205.352005, 10.234077, 1013.88629, 53.387184]; bending row 0 col 0 64.196457e-6, row 2 col 0 96.951576e-6. */
+    {"denim", 0.324, 205.352005, 1013.88629, 53.387184 / 4, 96.951576e-6 / 8, 64.196457e-6 / 8},
+    /* royal-target.json: pants, 65% cotton 35% polyester. density 0.220; stretching row 0
+       [2016.55456, 9.170511, 2034.97644, 104.759674]; bending row 0 col 0 125.409805e-6, row 2 col 0 125.409805e-6. */
+    {"cotton_polyester", 0.220, 2016.55456, 2034.97644, 104.759674 / 4, 125.409805e-6 / 8, 125.409805e-6 / 8},
+    /* white-dots-on-blk.json: tablecloth, 100% polyester. density 0.128; stretching row 0
+       [2002.08618, 0.345588, 2027.48559, 19.189022]; bending row 0 col 0 51.713814e-6, row 2 col 0 31.282822e-6. */
+    {"polyester", 0.128, 2002.08618, 2027.48559, 19.189022 / 4, 31.282822e-6 / 8, 51.713814e-6 / 8},
+    /* gray-interlock.json: t-shirt (interlock knit), 60% cotton 40% polyester. density 0.187; stretching row 0
+       [16.593832, -14.695990, 34.477123, 36.860302]; bending row 0 col 0 23.191698e-6, row 2 col 0 14.267624e-6. */
+    {"cotton_knit", 0.187, 16.593832, 34.477123, 36.860302 / 4, 14.267624e-6 / 8, 23.191698e-6 / 8},
+};
+static const PetscInt FabricPresetCount = (PetscInt)(sizeof(FabricPresets) / sizeof(FabricPresets[0]));
+
+PetscErrorCode FabricPresetApply(const char name[], SceneFabric *fabric, PetscBool *found)
+{
+  PetscFunctionBeginUser;
+  *found = PETSC_FALSE;
+  for (PetscInt p = 0; p < FabricPresetCount; p++) {
+    const FabricPreset *preset = &FabricPresets[p];
+
+    PetscCall(PetscStrcmp(name, preset->name, found));
+    if (!*found) continue;
+    fabric->density      = preset->density;
+    fabric->stretch_warp = fabric->stretch_stiff_warp = preset->stretch_warp;
+    fabric->stretch_weft = fabric->stretch_stiff_weft = preset->stretch_weft;
+    fabric->stretch_knee_warp = fabric->stretch_knee_weft = 0;
+    fabric->shear                                         = preset->shear;
+    fabric->shear_model                                   = CLOTH_SHEAR_ANGLE;
+    fabric->bend_warp                                     = preset->bend_warp;
+    fabric->bend_weft                                     = preset->bend_weft;
+    fabric->bend_model                                    = CLOTH_BEND_ANGLE;
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode FabricPresetListNames(char buf[], size_t len)
+{
+  PetscFunctionBeginUser;
+  buf[0] = 0;
+  for (PetscInt p = 0; p < FabricPresetCount; p++) {
+    if (p) PetscCall(PetscStrlcat(buf, ", ", len));
+    PetscCall(PetscStrlcat(buf, FabricPresets[p].name, len));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}

@@ -1,0 +1,13 @@
+/* Fabric presets: real fabrics whose model values come from published measurements.
+
+   Each preset fills a SceneFabric (density, stretch, shear, bending; angle models for shear and
+   bending, linear tensile curve, no damping); a scene's fabric names one with `preset:` and may
+   override any value. Sources and derivations are cited beside every number in fabric_presets.c
+   and summarised in docs/validation.md. */
+#pragma once
+#include "scene.h"
+
+/* Fills *fabric with preset `name` (keeps its name field); *found tells whether the preset exists. Not collective. */
+PetscErrorCode FabricPresetApply(const char name[], SceneFabric *fabric, PetscBool *found);
+/* Writes the preset names, comma separated, into buf. */
+PetscErrorCode FabricPresetListNames(char buf[], size_t len);

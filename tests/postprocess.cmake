@@ -1,0 +1,6 @@
+# postprocess/ and the scaling driver of jobs/ on a tiny real run (tests/postprocess_tools.sh).
+foreach(part energy render scaling)
+  clothsim_add_script_test(postprocess_${part} postprocess_tools.sh ${CMAKE_CURRENT_BINARY_DIR}/postprocess_${part} ${part})
+  set_tests_properties(postprocess_${part} PROPERTIES TIMEOUT 90)
+endforeach()
+set_tests_properties(postprocess_scaling PROPERTIES PROCESSORS 2)

@@ -1,0 +1,4 @@
+# Slurm: the batch scripts of jobs/ under a real single-node Slurm that the test starts itself
+# (tests/slurm_cluster.sh); skipped (77) with the reason when Slurm cannot run here.
+clothsim_add_script_test(slurm_chain slurm_chain.sh ${CMAKE_CURRENT_BINARY_DIR}/slurm_chain)
+set_tests_properties(slurm_chain PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 240 PROCESSORS 2 RUN_SERIAL TRUE)

@@ -1,0 +1,171 @@
+/* The distributed cloth against a brute-force serial evaluation of the whole model.
+
+   Options: -scene FILE [-grid N]. On any number of ranks, checks that
+   - every interaction is evaluated exactly once: the links and angle springs the ranks evaluate
+     (ClothGetInteractionCounts) sum to the model's totals;
+   - at a perturbed state (the same, particle by particle, on every rank count), the forces of
+     ClothComputeForces, brought to natural order, equal the sum over every interaction of the model
+     evaluated serially on each rank, plus gravity and damping, to 1e-12 relative to the largest
+     force (they differ only in summation order: a missed or doubly counted interaction, a wrong
+     ghost or a wrong natural <-> solver map shows up as an O(1) error);
+   - the elastic energy of ClothComputeEnergy equals the serial sum to 1e-12 relative.
+   Prints nothing unless a check fails. */
+#include <petscvec.h>
+#include "scene.h"
+#include "cloth.h"
+
+/* A smooth, rank-independent perturbation of particle k's component c (natural order). */
+static PetscReal Perturbation(PetscInt k, PetscInt c, PetscReal amplitude)
+{
+  return amplitude * PetscSinReal(0.37 * (PetscReal)k + 1.1 * (PetscReal)c + 0.5 * (PetscReal)(c * c));
+}
+
+/* Sets the state to the model's initial positions plus a perturbation, and a velocity field. */
+static PetscErrorCode SetPerturbedState(Cloth cloth, ClothModel model)
+{
+  Vec          x, v, natural;
+  PetscScalar *a;
+  PetscInt     lo, hi;
+
+  PetscFunctionBeginUser;
+  PetscCall(ClothGetState(cloth, &x, &v));
+  PetscCall(ClothCreateNaturalVec(cloth, &natural));
+  PetscCall(VecGetOwnershipRange(natural, &lo, &hi));
+  PetscCall(VecGetArray(natural, &a));
+  for (PetscInt i = lo; i < hi; i++) a[i - lo] = model->position[i] + Perturbation(i / 3, i % 3, 2e-3);
+  PetscCall(VecRestoreArray(natural, &a));
+  PetscCall(ClothScatterToNatural(cloth, x, natural, SCATTER_REVERSE));
+  PetscCall(VecGetArray(natural, &a));
+  for (PetscInt i = lo; i < hi; i++) a[i - lo] = Perturbation(i / 3, i % 3 + 3, 0.3);
+  PetscCall(VecRestoreArray(natural, &a));
+  PetscCall(ClothScatterToNatural(cloth, v, natural, SCATTER_REVERSE));
+  PetscCall(VecDestroy(&natural));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Gathers a natural-order Vec whole onto every rank (the caller frees *all). */
+static PetscErrorCode GatherNatural(Cloth cloth, Vec solver, PetscReal **all)
+{
+  Vec                natural, seq;
+  VecScatter         to_all;
+  const PetscScalar *a;
+  PetscInt           n;
+
+  PetscFunctionBeginUser;
+  PetscCall(ClothCreateNaturalVec(cloth, &natural));
+  PetscCall(ClothScatterToNatural(cloth, solver, natural, SCATTER_FORWARD));
+  PetscCall(VecScatterCreateToAll(natural, &to_all, &seq));
+  PetscCall(VecScatterBegin(to_all, natural, seq, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(to_all, natural, seq, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecGetSize(seq, &n));
+  PetscCall(PetscMalloc1(n, all));
+  PetscCall(VecGetArrayRead(seq, &a));
+  PetscCall(PetscArraycpy(*all, a, n));
+  PetscCall(VecRestoreArrayRead(seq, &a));
+  PetscCall(VecScatterDestroy(&to_all));
+  PetscCall(VecDestroy(&seq));
+  PetscCall(VecDestroy(&natural));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Forces (3 N, natural order) and elastic energy of the whole model at (x, v), evaluated serially. */
+static PetscErrorCode SerialForces(ClothModel model, const PetscReal gravity[3], const PetscReal x[], const PetscReal v[], PetscReal f[], PetscReal *energy)
+{
+  PetscFunctionBeginUser;
+  *energy = 0;
+  for (PetscInt i = 0; i < model->nparticles; i++)
+    for (PetscInt c = 0; c < 3; c++) f[3 * i + c] = model->mass[i] * gravity[c] - model->damping[i] * v[3 * i + c];
+  for (PetscInt l = 0; l < model->nlinks; l++) {
+    const ClothLink *link = &model->links[l];
+    PetscReal        e, f1[3];
+    PetscCall(ClothLinkEvaluate(link, &x[3 * link->p[0]], &x[3 * link->p[1]], PETSC_TRUE, &e, f1, NULL));
+    for (PetscInt c = 0; c < 3; c++) {
+      f[3 * link->p[0] + c] -= f1[c];
+      f[3 * link->p[1] + c] += f1[c];
+    }
+    *energy += e;
+  }
+  for (PetscInt a = 0; a < model->nangles; a++) {
+    const ClothAngle *angle = &model->angles[a];
+    PetscReal         e, fa[9];
+    PetscCall(ClothAngleEvaluate(angle, &x[3 * angle->p[0]], &x[3 * angle->p[1]], &x[3 * angle->p[2]], PETSC_TRUE, &e, fa, NULL));
+    for (PetscInt k = 0; k < 3; k++)
+      for (PetscInt c = 0; c < 3; c++) f[3 * angle->p[k] + c] += fa[3 * k + c];
+    *energy += e;
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode CheckInteractionCounts(Cloth cloth, ClothModel model)
+{
+  PetscInt local[2], total[2];
+
+  PetscFunctionBeginUser;
+  PetscCall(ClothGetInteractionCounts(cloth, &local[0], &local[1]));
+  PetscCallMPI(MPI_Allreduce(local, total, 2, MPIU_INT, MPI_SUM, PETSC_COMM_WORLD));
+  PetscCheck(total[0] == model->nlinks, PETSC_COMM_WORLD, PETSC_ERR_PLIB, "The ranks evaluate %" PetscInt_FMT " links in all, the model has %" PetscInt_FMT, total[0], model->nlinks);
+  PetscCheck(total[1] == model->nangles, PETSC_COMM_WORLD, PETSC_ERR_PLIB, "The ranks evaluate %" PetscInt_FMT " angle springs in all, the model has %" PetscInt_FMT, total[1], model->nangles);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode CheckAgainstSerial(Cloth cloth, Scene scene, ClothModel model)
+{
+  const PetscReal rtol = 1e-12;
+  const PetscInt  n    = 3 * model->nparticles;
+  Vec             x, v, force;
+  PetscReal      *xa, *va, *fa, *reference, energy, worst = 0, scale = 0;
+  ClothEnergy     e;
+
+  PetscFunctionBeginUser;
+  PetscCall(ClothGetState(cloth, &x, &v));
+  PetscCall(ClothCreateStateVec(cloth, &force));
+  PetscCall(ClothComputeForces(cloth, x, v, force));
+  PetscCall(ClothComputeEnergy(cloth, x, v, &e));
+  PetscCall(GatherNatural(cloth, x, &xa));
+  PetscCall(GatherNatural(cloth, v, &va));
+  PetscCall(GatherNatural(cloth, force, &fa));
+  PetscCall(PetscMalloc1(n, &reference));
+  PetscCall(SerialForces(model, scene->gravity, xa, va, reference, &energy));
+  for (PetscInt i = 0; i < n; i++) {
+    worst = PetscMax(worst, PetscAbsReal(fa[i] - reference[i]));
+    scale = PetscMax(scale, PetscAbsReal(reference[i]));
+  }
+  PetscCheck(worst <= rtol * scale, PETSC_COMM_WORLD, PETSC_ERR_PLIB, "Distributed forces differ from the serial evaluation by %g N (largest force %g N, tolerance %g relative)", (double)worst, (double)scale, (double)rtol);
+  PetscCheck(PetscAbsReal(e.elastic - energy) <= rtol * PetscAbsReal(energy), PETSC_COMM_WORLD, PETSC_ERR_PLIB, "Distributed elastic energy %.17g J differs from the serial sum %.17g J (tolerance %g relative)", (double)e.elastic, (double)energy,
+             (double)rtol);
+  PetscCheck(energy > 0, PETSC_COMM_WORLD, PETSC_ERR_PLIB, "The perturbation should strain the fabric, yet the elastic energy is %g J", (double)energy);
+  PetscCall(PetscFree(reference));
+  PetscCall(PetscFree(xa));
+  PetscCall(PetscFree(va));
+  PetscCall(PetscFree(fa));
+  PetscCall(VecDestroy(&force));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+int main(int argc, char **argv)
+{
+  char       path[PETSC_MAX_PATH_LEN];
+  PetscInt   grid = 0;
+  PetscBool  flg;
+  Scene      scene;
+  Cloth      cloth;
+  ClothModel model;
+
+  PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
+  PetscCall(PetscOptionsGetString(NULL, NULL, "-scene", path, sizeof(path), &flg));
+  PetscCheck(flg, PETSC_COMM_WORLD, PETSC_ERR_USER_INPUT, "Give -scene FILE");
+  PetscCall(PetscOptionsGetInt(NULL, NULL, "-grid", &grid, NULL));
+  PetscCall(SceneCreateFromFile(PETSC_COMM_WORLD, path, &scene));
+  if (grid > 0) PetscCall(SceneSetGridSize(scene, grid));
+  PetscCall(ClothCreate(PETSC_COMM_WORLD, scene, &cloth));
+  PetscCall(ClothSetFromOptions(cloth));
+  PetscCall(ClothSetUp(cloth));
+  PetscCall(ClothGetModel(cloth, &model));
+  PetscCall(CheckInteractionCounts(cloth, model));
+  PetscCall(SetPerturbedState(cloth, model));
+  PetscCall(CheckAgainstSerial(cloth, scene, model));
+  PetscCall(ClothDestroy(&cloth));
+  PetscCall(SceneDestroy(&scene));
+  PetscCall(PetscFinalize());
+  return 0;
+}

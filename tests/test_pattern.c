@@ -1,0 +1,174 @@
+/* Pattern meshing from four boundaries, fabric presets and the KES-F mapping.
+
+   1. Arc-length placement: nodes on an unevenly split polyline land at equal arc length.
+   2. Transfinite interpolation of a square given as four polylines (with extra vertices) reproduces the
+      uniform rectangle grid to round-off.
+   3. KES-F units: FabricSetFromKES against values converted by hand (1 gf = 9.80665e-3 N); the biphasic
+      curve reaches Fm at EMT and encloses the work WT = LT Fm EMT / 2.
+   4. Presets: a preset's values equal the cited source numbers (fabric_presets.c).
+   5. With -scene FILE -expect_area A: every piece of the scene meshes with positive cells, its outline
+      encloses A m^2 (-area_rtol, default 1e-2) and its particles' total mass is density x A within 1%.
+   Prints nothing unless a check fails. */
+#include <petscsys.h>
+#include "fabric.h"
+#include "fabric_presets.h"
+#include "model.h"
+#include "pattern.h"
+
+static PetscErrorCode CheckClose(PetscReal value, PetscReal expected, PetscReal rtol, const char what[])
+{
+  PetscFunctionBeginUser;
+  PetscCheck(PetscAbsReal(value - expected) <= rtol * PetscAbsReal(expected), PETSC_COMM_SELF, PETSC_ERR_PLIB, "%s: got %.12g, expected %.12g (relative tolerance %g)", what, (double)value, (double)expected, (double)rtol);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode CheckArcLength(void)
+{
+  const PetscReal line[6] = {0, 0, 0.1, 0, 1, 0};
+  PetscReal       nodes[10];
+
+  PetscFunctionBeginUser;
+  PetscCall(PatternResampleByArcLength(3, line, 5, nodes));
+  for (PetscInt k = 0; k < 5; k++)
+    PetscCheck(PetscAbsReal(nodes[2 * k] - 0.25 * k) < 1e-14 && nodes[2 * k + 1] == 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "Arc-length node %" PetscInt_FMT " at (%g, %g), expected (%g, 0)", k, (double)nodes[2 * k], (double)nodes[2 * k + 1], 0.25 * k);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode CheckTransfiniteSquare(void)
+{
+  PetscReal  bottom[6] = {0, 0, 0.3, 0, 2, 0}, right[4] = {2, 0, 2, 1}, top[8] = {0, 1, 0.5, 1, 1.7, 1, 2, 1}, left[6] = {0, 0, 0, 0.9, 0, 1};
+  ScenePiece piece = {0}, rectangle = {0};
+  PetscReal  uv[2 * 9 * 5], expected[2 * 9 * 5];
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscStrncpy(piece.name, "square", sizeof(piece.name)));
+  piece.nu = rectangle.nu = 9;
+  piece.nv = rectangle.nv   = 5;
+  piece.has_boundaries      = PETSC_TRUE;
+  piece.boundary_npoints[0] = 3;
+  piece.boundary_points[0]  = bottom;
+  piece.boundary_npoints[1] = 2;
+  piece.boundary_points[1]  = right;
+  piece.boundary_npoints[2] = 4;
+  piece.boundary_points[2]  = top;
+  piece.boundary_npoints[3] = 3;
+  piece.boundary_points[3]  = left;
+  rectangle.size[0]         = 2;
+  rectangle.size[1]         = 1;
+  PetscCall(PatternMeshPiece(&piece, uv));
+  PetscCall(PatternMeshPiece(&rectangle, expected));
+  for (PetscInt k = 0; k < 2 * 9 * 5; k++)
+    PetscCheck(PetscAbsReal(uv[k] - expected[k]) < 1e-14, PETSC_COMM_SELF, PETSC_ERR_PLIB, "Transfinite square: coordinate %" PetscInt_FMT " is %.17g, the rectangle grid's %.17g", k, (double)uv[k], (double)expected[k]);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode CheckKES(void)
+{
+  /* W 15 mg/cm^2, B 0.1/0.08 gf cm^2/cm, G 0.8 gf/cm/deg, EMT 5/8 %, LT 0.75/0.6 */
+  const FabricKES kes = {15, 0.1, 0.08, 0.8, 5, 8, 0.75, 0.6};
+  const PetscReal fm  = 500 * 9.80665e-3 / 1e-2; /* 490.3325 N/m */
+  SceneFabric     fabric;
+  PetscReal       soft, stiff, knee, work = 0;
+  const PetscInt  n = 100000;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(&fabric, sizeof(fabric)));
+  PetscCall(FabricSetFromKES(&kes, &fabric));
+  PetscCall(CheckClose(fabric.density, 0.15, 1e-14, "KES W 15 mg/cm^2 -> kg/m^2"));
+  PetscCall(CheckClose(fabric.bend_warp, 0.1 * 9.80665e-5, 1e-14, "KES B 0.1 gf cm^2/cm -> N m"));
+  PetscCall(CheckClose(fabric.bend_weft, 0.08 * 9.80665e-5, 1e-14, "KES B 0.08 gf cm^2/cm -> N m"));
+  PetscCall(CheckClose(fabric.shear, 0.8 * 0.980665 * 180 / PETSC_PI, 1e-14, "KES G 0.8 gf/cm/degree -> N/m per radian"));
+  PetscCall(CheckClose(fabric.shear, 44.950372, 1e-7, "KES G 0.8 gf/cm/degree = 44.950372 N/m"));
+  PetscCheck(fabric.bend_model == CLOTH_BEND_ANGLE && fabric.shear_model == CLOTH_SHEAR_ANGLE, PETSC_COMM_SELF, PETSC_ERR_PLIB, "KES values are rigidities: expected the angle models");
+  /* warp: LT 0.75 -> below the knee (2 LT - 1) Fm/EMT = 0.5 x 9806.65, beyond (3 - 2 LT) Fm/EMT = 1.5 x 9806.65 */
+  PetscCall(CheckClose(fabric.stretch_warp, 0.5 * fm / 0.05, 1e-14, "KES warp modulus below the knee"));
+  PetscCall(CheckClose(fabric.stretch_stiff_warp, 1.5 * fm / 0.05, 1e-14, "KES warp modulus beyond the knee"));
+  PetscCall(CheckClose(fabric.stretch_knee_warp, 0.025, 1e-14, "KES warp knee = EMT_warp/2"));
+  PetscCall(CheckClose(fabric.stretch_knee_weft, 0.04, 1e-14, "KES weft knee = EMT_weft/2"));
+  /* the curve of the weft: F(EMT) = Fm and its work is LT Fm EMT / 2 (midpoint rule) */
+  PetscCall(FabricBiphasicFromKES(8, 0.6, &soft, &stiff, &knee));
+  PetscCall(CheckClose(soft * knee + stiff * (0.08 - knee), fm, 1e-13, "biphasic curve at EMT"));
+  for (PetscInt k = 0; k < n; k++) {
+    const PetscReal e = 0.08 * (k + 0.5) / n;
+    work += (e < knee ? soft * e : soft * knee + stiff * (e - knee)) * 0.08 / n;
+  }
+  PetscCall(CheckClose(work, 0.6 * fm * 0.08 / 2, 1e-8, "biphasic curve's work WT = LT Fm EMT / 2"));
+  /* without LT: linear, the secant modulus */
+  {
+    FabricKES linear = kes;
+    linear.lt_warp = linear.lt_weft = 0;
+    PetscCall(FabricSetFromKES(&linear, &fabric));
+    PetscCall(CheckClose(fabric.stretch_weft, fm / 0.08, 1e-14, "KES weft secant modulus Fm / EMT"));
+    PetscCheck(fabric.stretch_knee_warp == 0 && fabric.stretch_knee_weft == 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "KES without LT: expected a linear curve");
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode CheckPresets(void)
+{
+  SceneFabric fabric;
+  PetscBool   found;
+  char        names[256];
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(&fabric, sizeof(fabric)));
+  PetscCall(FabricPresetApply("denim", &fabric, &found));
+  PetscCheck(found, PETSC_COMM_SELF, PETSC_ERR_PLIB, "Preset 'denim' not found");
+  PetscCall(CheckClose(fabric.density, 0.324, 1e-15, "denim density (11oz-black-denim.json)"));
+  PetscCall(CheckClose(fabric.bend_warp, 96.951576e-6 / 8, 1e-15, "denim warp rigidity (bending row 2 / 8)"));
+  PetscCall(CheckClose(fabric.bend_weft, 64.196457e-6 / 8, 1e-15, "denim weft rigidity (bending row 0 / 8)"));
+  PetscCall(CheckClose(fabric.shear, 53.387184 / 4, 1e-15, "denim shear modulus (k33 / 4)"));
+  PetscCall(FabricPresetApply("velvet", &fabric, &found));
+  PetscCheck(!found, PETSC_COMM_SELF, PETSC_ERR_PLIB, "Preset 'velvet' should not exist");
+  PetscCall(FabricPresetListNames(names, sizeof(names)));
+  PetscCheck(strstr(names, "cotton_knit") != NULL, PETSC_COMM_SELF, PETSC_ERR_PLIB, "Preset list '%s' lacks cotton_knit", names);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Every piece of the scene: positive cells, outline area, total mass = density x area. */
+static PetscErrorCode CheckSceneAreas(const char path[], PetscReal expected_area, PetscReal rtol)
+{
+  Scene      scene;
+  ClothModel model;
+
+  PetscFunctionBeginUser;
+  PetscCall(SceneCreateFromFile(PETSC_COMM_WORLD, path, &scene));
+  PetscCall(ClothModelCreate(scene, &model));
+  for (PetscInt p = 0; p < scene->npieces; p++) {
+    const ScenePiece *piece = &scene->pieces[p];
+    PetscReal        *uv, outline, mass = 0, min_area = PETSC_MAX_REAL;
+
+    PetscCall(PetscMalloc1(2 * piece->nu * piece->nv, &uv));
+    PetscCall(PatternMeshPiece(piece, uv));
+    for (PetscInt j = 0; j + 1 < piece->nv; j++)
+      for (PetscInt i = 0; i + 1 < piece->nu; i++) min_area = PetscMin(min_area, PatternCellArea(piece->nu, uv, i, j));
+    PetscCheck(min_area > 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "Piece '%s': smallest cell area %g m^2, expected > 0", piece->name, (double)min_area);
+    PetscCall(PatternOutlineArea(piece, &outline));
+    PetscCall(CheckClose(outline, expected_area, rtol, "outline area of the given boundaries"));
+    for (PetscInt k = model->piece_offset[p]; k < model->piece_offset[p + 1]; k++) mass += model->mass[k];
+    PetscCall(CheckClose(mass, scene->fabrics[piece->fabric].density * expected_area, 1e-2, "total mass vs density x outline area"));
+    PetscCall(PetscFree(uv));
+  }
+  PetscCall(ClothModelDestroy(&model));
+  PetscCall(SceneDestroy(&scene));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+int main(int argc, char **argv)
+{
+  char      path[PETSC_MAX_PATH_LEN];
+  PetscBool has_scene;
+  PetscReal area = 0, rtol = 1e-2;
+
+  PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
+  PetscCall(CheckArcLength());
+  PetscCall(CheckTransfiniteSquare());
+  PetscCall(CheckKES());
+  PetscCall(CheckPresets());
+  PetscCall(PetscOptionsGetString(NULL, NULL, "-scene", path, sizeof(path), &has_scene));
+  PetscCall(PetscOptionsGetReal(NULL, NULL, "-expect_area", &area, NULL));
+  PetscCall(PetscOptionsGetReal(NULL, NULL, "-area_rtol", &rtol, NULL));
+  if (has_scene) PetscCall(CheckSceneAreas(path, area, rtol));
+  PetscCall(PetscFinalize());
+  return 0;
+}

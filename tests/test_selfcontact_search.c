@@ -1,0 +1,165 @@
+/* The cell-grid search of ClothSelfContact against brute force over every pair of primitives: the
+   same point-triangle and edge-edge contacts, with the same distances, on any number of ranks.
+
+   The scene's pieces are folded accordion-wise into -panels panels stacked -gap x thickness apart
+   (the pieces one above the other), with a deterministic jitter of -jitter x thickness per
+   coordinate, so that layers, fold lines and the two pieces all come within the thickness. Checks
+   at least -min_contacts contacts of each kind. Prints the counts (independent of the rank count). */
+#include <petscvec.h>
+#include "scene.h"
+#include "cloth.h"
+#include "selfcontact.h"
+
+typedef struct {
+  PetscInt  panels;
+  PetscReal gap, jitter, thickness;
+} Crumple;
+
+/* A deterministic value in [-1, 1] from an index and a component (the same on every rank). */
+static PetscReal Jitter(PetscInt g, PetscInt c)
+{
+  PetscInt64 h = (PetscInt64)g * 2654435761LL + (PetscInt64)c * 40503LL + 12345;
+
+  h = (h ^ (h >> 13)) * 1274126177LL;
+  h = h ^ (h >> 16);
+  return (PetscReal)((h & 0xffff) / 32767.5 - 1.0);
+}
+
+/* Natural-order positions of the folded pieces. */
+static PetscErrorCode CrumpledPositions(Scene scene, ClothModel model, const Crumple *cr, PetscReal x[])
+{
+  PetscFunctionBeginUser;
+  for (PetscInt k = 0; k < model->npieces; k++) {
+    const ScenePiece *piece = &scene->pieces[k];
+    for (PetscInt g = model->piece_offset[k]; g < model->piece_offset[k + 1]; g++) {
+      const PetscInt  local = g - model->piece_offset[k], i = local % piece->nu, j = local / piece->nu;
+      const PetscReal s = (PetscReal)i / (piece->nu - 1), t = (PetscReal)j / (piece->nv - 1);
+      const PetscReal width = piece->size[0] / cr->panels;
+      PetscInt        panel = PetscMin((PetscInt)(s * cr->panels), cr->panels - 1);
+      const PetscReal f     = s * cr->panels - panel;
+
+      x[3 * g + 0] = (panel % 2 == 0 ? f : 1 - f) * width;
+      x[3 * g + 1] = (panel + k * cr->panels) * cr->gap * cr->thickness;
+      x[3 * g + 2] = t * piece->size[1];
+      for (PetscInt c = 0; c < 3; c++) x[3 * g + c] += cr->jitter * cr->thickness * Jitter(g, c);
+    }
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode SetState(Cloth cloth, const PetscReal x[])
+{
+  Vec          natural, position;
+  PetscScalar *a;
+  PetscInt     lo, hi;
+
+  PetscFunctionBeginUser;
+  PetscCall(ClothCreateNaturalVec(cloth, &natural));
+  PetscCall(VecGetOwnershipRange(natural, &lo, &hi));
+  PetscCall(VecGetArray(natural, &a));
+  for (PetscInt k = lo; k < hi; k++) a[k - lo] = x[k];
+  PetscCall(VecRestoreArray(natural, &a));
+  PetscCall(ClothGetState(cloth, &position, NULL));
+  PetscCall(ClothScatterToNatural(cloth, position, natural, SCATTER_REVERSE));
+  PetscCall(VecDestroy(&natural));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static int CompareContacts(const void *pa, const void *pb)
+{
+  const ClothContact *a = (const ClothContact *)pa, *b = (const ClothContact *)pb;
+
+  if (a->kind != b->kind) return a->kind < b->kind ? -1 : 1;
+  for (PetscInt k = 0; k < 4; k++)
+    if (a->p[k] != b->p[k]) return a->p[k] < b->p[k] ? -1 : 1;
+  return 0;
+}
+
+/* Every rank's contacts on every rank (sorted). */
+static PetscErrorCode GatherContacts(MPI_Comm comm, PetscInt n, const ClothContact local[], PetscInt *total, ClothContact **all)
+{
+  PetscMPIInt  size, nbytes = (PetscMPIInt)(n * sizeof(ClothContact)), *counts, *displs;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  PetscCall(PetscMalloc2(size, &counts, size + 1, &displs));
+  PetscCallMPI(MPI_Allgather(&nbytes, 1, MPI_INT, counts, 1, MPI_INT, comm));
+  displs[0] = 0;
+  for (PetscMPIInt r = 0; r < size; r++) displs[r + 1] = displs[r] + counts[r];
+  *total = displs[size] / (PetscMPIInt)sizeof(ClothContact);
+  PetscCall(PetscMalloc1(*total + 1, all));
+  PetscCallMPI(MPI_Allgatherv(local, nbytes, MPI_BYTE, *all, counts, displs, MPI_BYTE, comm));
+  qsort(*all, (size_t)*total, sizeof(ClothContact), CompareContacts);
+  PetscCall(PetscFree2(counts, displs));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode CountKinds(PetscInt n, const ClothContact c[], PetscInt count[2])
+{
+  PetscFunctionBeginUser;
+  count[0] = count[1] = 0;
+  for (PetscInt k = 0; k < n; k++) count[c[k].kind]++;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+int main(int argc, char **argv)
+{
+  char                path[PETSC_MAX_PATH_LEN];
+  Scene               scene;
+  Cloth               cloth;
+  ClothModel          model;
+  ClothSelfContact    sc;
+  Crumple             cr = {4, 0.6, 0.3, 0};
+  PetscReal          *x;
+  PetscInt            n, nall = 0, nbrute, kinds[2], min_contacts = 100;
+  const ClothContact *found;
+  ClothContact       *all, *brute;
+  PetscBool           flg;
+
+  PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
+  PetscCall(PetscOptionsGetString(NULL, NULL, "-scene", path, sizeof(path), &flg));
+  PetscCheck(flg, PETSC_COMM_WORLD, PETSC_ERR_USER_INPUT, "give -scene");
+  PetscCall(PetscOptionsGetInt(NULL, NULL, "-panels", &cr.panels, NULL));
+  PetscCall(PetscOptionsGetReal(NULL, NULL, "-gap", &cr.gap, NULL));
+  PetscCall(PetscOptionsGetReal(NULL, NULL, "-jitter", &cr.jitter, NULL));
+  PetscCall(PetscOptionsGetInt(NULL, NULL, "-min_contacts", &min_contacts, NULL));
+  PetscCall(SceneCreateFromFile(PETSC_COMM_WORLD, path, &scene));
+  PetscCall(ClothCreate(PETSC_COMM_WORLD, scene, &cloth));
+  PetscCall(ClothSetFromOptions(cloth));
+  PetscCall(ClothSetUp(cloth));
+  PetscCall(ClothSelfContactCreate(cloth, &sc));
+  PetscCall(ClothSelfContactSetFromOptions(sc));
+  PetscCall(ClothSelfContactSetUp(sc));
+  cr.thickness = scene->self_collision.thickness;
+  PetscCall(ClothGetModel(cloth, &model));
+  PetscCall(PetscMalloc1(3 * model->nparticles, &x));
+  PetscCall(CrumpledPositions(scene, model, &cr, x));
+  PetscCall(SetState(cloth, x));
+
+  PetscCall(ClothSelfContactFind(sc, cr.thickness));
+  PetscCall(ClothSelfContactGetContacts(sc, &n, &found));
+  PetscCall(GatherContacts(PETSC_COMM_WORLD, n, found, &nall, &all));
+  PetscCall(ClothSelfContactFindBruteForce(sc, x, cr.thickness, &nbrute, &brute));
+  qsort(brute, (size_t)nbrute, sizeof(ClothContact), CompareContacts);
+
+  PetscCall(CountKinds(nbrute, brute, kinds));
+  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "brute force: %" PetscInt_FMT " point-triangle, %" PetscInt_FMT " edge-edge contacts within %g m\n", kinds[0], kinds[1], (double)cr.thickness));
+  PetscCheck(kinds[0] >= min_contacts && kinds[1] >= min_contacts, PETSC_COMM_WORLD, PETSC_ERR_PLIB, "the crumpled configuration has too few contacts to test anything (%" PetscInt_FMT ", %" PetscInt_FMT ")", kinds[0], kinds[1]);
+  PetscCall(CountKinds(nall, all, kinds));
+  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "cell grid:   %" PetscInt_FMT " point-triangle, %" PetscInt_FMT " edge-edge contacts\n", kinds[0], kinds[1]));
+  PetscCheck(nall == nbrute, PETSC_COMM_WORLD, PETSC_ERR_PLIB, "the cell-grid search found %" PetscInt_FMT " contacts, brute force %" PetscInt_FMT, nall, nbrute);
+  for (PetscInt k = 0; k < nall; k++) {
+    PetscCheck(CompareContacts(&all[k], &brute[k]) == 0, PETSC_COMM_WORLD, PETSC_ERR_PLIB, "contact %" PetscInt_FMT " differs: grid (%d: %" PetscInt_FMT " %" PetscInt_FMT " %" PetscInt_FMT " %" PetscInt_FMT "), brute force (%d: %" PetscInt_FMT " %" PetscInt_FMT " %" PetscInt_FMT " %" PetscInt_FMT ")", k,
+               (int)all[k].kind, all[k].p[0], all[k].p[1], all[k].p[2], all[k].p[3], (int)brute[k].kind, brute[k].p[0], brute[k].p[1], brute[k].p[2], brute[k].p[3]);
+    PetscCheck(PetscAbsReal(all[k].distance - brute[k].distance) <= 1e-14, PETSC_COMM_WORLD, PETSC_ERR_PLIB, "contact %" PetscInt_FMT ": distance %.17g (grid) and %.17g (brute force)", k, (double)all[k].distance, (double)brute[k].distance);
+  }
+  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "identical contact sets\n"));
+  PetscCall(PetscFree(all));
+  PetscCall(PetscFree(brute));
+  PetscCall(PetscFree(x));
+  PetscCall(ClothSelfContactDestroy(&sc));
+  PetscCall(ClothDestroy(&cloth));
+  PetscCall(SceneDestroy(&scene));
+  PetscCall(PetscFinalize());
+  return 0;
+}
