@@ -32,20 +32,23 @@ static PetscErrorCode PerturbState(Cloth cloth, PetscReal amplitude, PetscReal s
 /* column = (F(s + eps e_k) - F(s - eps e_k)) / (2 eps), s = position or velocity. */
 static PetscErrorCode ForceDifference(Cloth cloth, Vec s, PetscInt k, PetscReal eps, Vec column)
 {
-  Vec x, v, fp;
+  Vec         x, v, fp;
+  PetscMPIInt rank;
 
   PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(PETSC_COMM_WORLD, &rank));
   PetscCall(ClothGetState(cloth, &x, &v));
   PetscCall(VecDuplicate(x, &fp));
-  PetscCall(VecSetValue(s, k, eps, ADD_VALUES));
+  /* Only one rank adds the perturbation: ADD_VALUES from every rank would add it once per rank. */
+  if (rank == 0) PetscCall(VecSetValue(s, k, eps, ADD_VALUES));
   PetscCall(VecAssemblyBegin(s));
   PetscCall(VecAssemblyEnd(s));
   PetscCall(ClothComputeForces(cloth, x, v, fp));
-  PetscCall(VecSetValue(s, k, -2 * eps, ADD_VALUES));
+  if (rank == 0) PetscCall(VecSetValue(s, k, -2 * eps, ADD_VALUES));
   PetscCall(VecAssemblyBegin(s));
   PetscCall(VecAssemblyEnd(s));
   PetscCall(ClothComputeForces(cloth, x, v, column));
-  PetscCall(VecSetValue(s, k, eps, ADD_VALUES));
+  if (rank == 0) PetscCall(VecSetValue(s, k, eps, ADD_VALUES));
   PetscCall(VecAssemblyBegin(s));
   PetscCall(VecAssemblyEnd(s));
   PetscCall(VecAYPX(column, -1.0, fp));
