@@ -12,6 +12,7 @@ PetscErrorCode ClothCreate(MPI_Comm comm, Scene scene, Cloth *cloth)
   c->comm           = comm;
   c->scene          = scene;
   c->partition_type = CLOTH_PARTITION_METIS;
+  c->gravity_scale  = 1.0;
   *cloth            = c;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -69,11 +70,13 @@ static PetscInt InteractionOwner(Cloth cloth, const PetscInt p[], PetscInt np)
 
 /* How many links and angle springs this rank evaluates, so that its arrays are sized by its own
    share and not by the model's totals. */
-static void ClothCountOwnInteractions(Cloth cloth, PetscMPIInt rank, PetscInt *nlinks, PetscInt *nangles)
+static void ClothCountOwnInteractions(Cloth cloth, PetscMPIInt rank, PetscInt *nlinks, PetscInt *nangles, PetscInt *nseam)
 {
   const ClothModel m = cloth->model;
 
-  *nlinks = *nangles = 0;
+  *nlinks = *nangles = *nseam = 0;
+  for (PetscInt s = 0; s < m->nseamlinks; s++)
+    if (InteractionOwner(cloth, m->seamlinks[s].p, m->seamlinks[s].np) == rank) (*nseam)++;
   for (PetscInt l = 0; l < m->nlinks; l++)
     if (InteractionOwner(cloth, m->links[l].p, 2) == rank) (*nlinks)++;
   for (PetscInt a = 0; a < m->nangles; a++)
@@ -84,11 +87,15 @@ static void ClothCountOwnInteractions(Cloth cloth, PetscMPIInt rank, PetscInt *n
 static PetscErrorCode ClothFindGhosts(Cloth cloth, PetscMPIInt rank)
 {
   const ClothModel m = cloth->model;
-  PetscInt         n = 0, nlinks, nangles;
+  PetscInt         n = 0, nlinks, nangles, nseam;
 
   PetscFunctionBeginUser;
-  ClothCountOwnInteractions(cloth, rank, &nlinks, &nangles);
-  PetscCall(PetscMalloc1(2 * nlinks + 3 * nangles + 1, &cloth->ghosts));
+  ClothCountOwnInteractions(cloth, rank, &nlinks, &nangles, &nseam);
+  PetscCall(PetscMalloc1(2 * nlinks + 3 * nangles + CLOTH_SEAM_LINK_MAX_PARTICLES * nseam + 1, &cloth->ghosts));
+  for (PetscInt s = 0; s < m->nseamlinks; s++)
+    if (InteractionOwner(cloth, m->seamlinks[s].p, m->seamlinks[s].np) == rank)
+      for (PetscInt k = 0; k < m->seamlinks[s].np; k++)
+        if (cloth->part[m->seamlinks[s].p[k]] != rank) cloth->ghosts[n++] = cloth->solver_of_natural[m->seamlinks[s].p[k]];
   for (PetscInt l = 0; l < m->nlinks; l++)
     if (InteractionOwner(cloth, m->links[l].p, 2) == rank)
       for (PetscInt k = 0; k < 2; k++)
@@ -122,11 +129,19 @@ static PetscErrorCode ClothLocalIndex(Cloth cloth, PetscInt natural, PetscInt *l
 static PetscErrorCode ClothDistributeInteractions(Cloth cloth, PetscMPIInt rank)
 {
   const ClothModel m = cloth->model;
-  PetscInt         nlinks, nangles;
+  PetscInt         nlinks, nangles, nseam;
 
   PetscFunctionBeginUser;
-  ClothCountOwnInteractions(cloth, rank, &nlinks, &nangles);
+  ClothCountOwnInteractions(cloth, rank, &nlinks, &nangles, &nseam);
   PetscCall(PetscMalloc2(nlinks, &cloth->links, nangles, &cloth->angles));
+  PetscCall(PetscMalloc2(nseam, &cloth->seamlinks, nseam, &cloth->seamlink_model_index));
+  for (PetscInt s = 0; s < m->nseamlinks; s++) {
+    if (InteractionOwner(cloth, m->seamlinks[s].p, m->seamlinks[s].np) != rank) continue;
+    cloth->seamlinks[cloth->nseamlinks]            = m->seamlinks[s];
+    cloth->seamlink_model_index[cloth->nseamlinks] = s;
+    for (PetscInt k = 0; k < m->seamlinks[s].np; k++) PetscCall(ClothLocalIndex(cloth, m->seamlinks[s].p[k], &cloth->seamlinks[cloth->nseamlinks].p[k]));
+    cloth->nseamlinks++;
+  }
   for (PetscInt l = 0; l < m->nlinks; l++) {
     if (InteractionOwner(cloth, m->links[l].p, 2) != rank) continue;
     cloth->links[cloth->nlinks] = m->links[l];
@@ -324,6 +339,7 @@ PetscErrorCode ClothDestroy(Cloth *cloth)
   if (c->setup) {
     PetscCall(PetscFree4(c->natural_of_local, c->mass, c->damping, c->fixed));
     PetscCall(PetscFree2(c->links, c->angles));
+    PetscCall(PetscFree2(c->seamlinks, c->seamlink_model_index));
   }
   PetscCall(VecDestroy(&c->position));
   PetscCall(VecDestroy(&c->velocity));
@@ -373,6 +389,39 @@ PetscErrorCode ClothGetMasses(Cloth cloth, const PetscReal **mass, const PetscBo
   PetscFunctionBeginUser;
   if (mass) *mass = cloth->mass;
   if (fixed) *fixed = cloth->fixed;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothGetSeamLinks(Cloth cloth, PetscInt *n, ClothSeamLink **links, const PetscInt **model_index)
+{
+  PetscFunctionBeginUser;
+  *n     = cloth->nseamlinks;
+  *links = cloth->seamlinks;
+  if (model_index) *model_index = cloth->seamlink_model_index;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothSetGravityScale(Cloth cloth, PetscReal scale)
+{
+  PetscFunctionBeginUser;
+  cloth->gravity_scale = scale;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* A ghosted Vec stores its ghost values right after the owned ones, so its array is the local form's. */
+PetscErrorCode ClothGetLocalPositionArray(Cloth cloth, const PetscScalar **x)
+{
+  PetscFunctionBeginUser;
+  PetscCall(VecGhostUpdateBegin(cloth->position, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecGhostUpdateEnd(cloth->position, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecGetArrayRead(cloth->position, x));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothRestoreLocalPositionArray(Cloth cloth, const PetscScalar **x)
+{
+  PetscFunctionBeginUser;
+  PetscCall(VecRestoreArrayRead(cloth->position, x));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -81,5 +81,13 @@ PetscErrorCode ClothScatterToNatural(Cloth cloth, Vec solver, Vec natural, Scatt
    a Vec from ClothCreateStrainVec. position (solver numbering) gets its ghosts refreshed. Collective. */
 PetscErrorCode ClothCreateStrainVec(Cloth cloth, Vec *strain);
 PetscErrorCode ClothComputeStrain(Cloth cloth, Vec position, Vec strain);
+/* This rank's seam links (seam.h; local particle numbering) and their indices in the model, for the
+   sewing phases to set their stiffness. Borrowed. */
+PetscErrorCode ClothGetSeamLinks(Cloth cloth, PetscInt *n, ClothSeamLink **links, const PetscInt **model_index);
+/* Gravity is multiplied by scale (0 while seams are pulled together, 1 otherwise). */
+PetscErrorCode ClothSetGravityScale(Cloth cloth, PetscReal scale);
+/* Positions of owned particles then ghosts (local numbering), ghosts refreshed first. Collective. */
+PetscErrorCode ClothGetLocalPositionArray(Cloth cloth, const PetscScalar **x);
+PetscErrorCode ClothRestoreLocalPositionArray(Cloth cloth, const PetscScalar **x);
 /* The global model (every rank holds it; read-only): topology for output, counts. */
 PetscErrorCode ClothGetModel(Cloth cloth, ClothModel *model);

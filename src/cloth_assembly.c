@@ -4,7 +4,7 @@
 #include "selfcontact.h"
 #include "log.h"
 
-#define CLOTH_MAX_ELEMENT_PARTICLES 3
+#define CLOTH_MAX_ELEMENT_PARTICLES 3 /* angles and interpolated seam links (CLOTH_SEAM_LINK_MAX_PARTICLES) */
 
 /* What one pass over the interactions accumulates (NULL / PETSC_FALSE: not wanted). */
 typedef struct {
@@ -121,6 +121,20 @@ static PetscErrorCode AccumulateElement(Cloth cloth, ClothElement *e, ClothEvalu
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+static PetscErrorCode EvaluateSeamLink(const ClothSeamLink *link, const PetscScalar *x, PetscBool want_h, ClothElement *e)
+{
+  const PetscReal *xs[CLOTH_SEAM_LINK_MAX_PARTICLES];
+
+  PetscFunctionBeginUser;
+  e->np = link->np;
+  for (PetscInt k = 0; k < link->np; k++) {
+    e->p[k] = link->p[k];
+    xs[k]   = &x[3 * link->p[k]];
+  }
+  PetscCall(ClothSeamLinkEvaluate(link, xs, &e->energy, e->force, want_h ? e->H : NULL));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 /* One pass over this rank's interactions at local positions x. */
 static PetscErrorCode ClothEvaluateInteractions(Cloth cloth, const PetscScalar *x, ClothEvaluation *ev)
 {
@@ -134,6 +148,10 @@ static PetscErrorCode ClothEvaluateInteractions(Cloth cloth, const PetscScalar *
   }
   for (PetscInt a = 0; a < cloth->nangles; a++) {
     PetscCall(EvaluateAngle(&cloth->angles[a], x, want_h, ev->psd, &e));
+    PetscCall(AccumulateElement(cloth, &e, ev));
+  }
+  for (PetscInt s = 0; s < cloth->nseamlinks; s++) { /* their Hessians are positive semidefinite as they are */
+    PetscCall(EvaluateSeamLink(&cloth->seamlinks[s], x, want_h, &e));
     PetscCall(AccumulateElement(cloth, &e, ev));
   }
   PetscCall(PetscLogFlops(60.0 * cloth->nlinks + 400.0 * cloth->nangles));
@@ -161,7 +179,7 @@ static PetscErrorCode AddBodyForces(Cloth cloth, const PetscScalar *v, PetscScal
 {
   PetscFunctionBeginUser;
   for (PetscInt i = 0; i < cloth->nlocal; i++)
-    for (PetscInt c = 0; c < 3; c++) f[3 * i + c] += cloth->mass[i] * cloth->scene->gravity[c] - cloth->damping[i] * v[3 * i + c];
+    for (PetscInt c = 0; c < 3; c++) f[3 * i + c] += cloth->mass[i] * cloth->gravity_scale * cloth->scene->gravity[c] - cloth->damping[i] * v[3 * i + c];
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -332,7 +350,7 @@ PetscErrorCode ClothComputeEnergy(Cloth cloth, Vec position, Vec velocity, Cloth
   for (PetscInt i = 0; i < cloth->nlocal; i++)
     for (PetscInt c = 0; c < 3; c++) {
       local[0] += 0.5 * cloth->mass[i] * v[3 * i + c] * v[3 * i + c];
-      local[1] -= cloth->mass[i] * cloth->scene->gravity[c] * x[3 * i + c];
+      local[1] -= cloth->mass[i] * cloth->gravity_scale * cloth->scene->gravity[c] * x[3 * i + c];
     }
   PetscCall(VecRestoreArrayRead(velocity, &v));
   PetscCall(VecRestoreArrayRead(position, &x));

@@ -25,6 +25,10 @@ struct _n_Cloth {
   PetscInt           nlinks, nangles;
   ClothLink         *links;  /* local particle indices */
   ClothAngle        *angles; /* local particle indices */
+  PetscInt           nseamlinks;
+  ClothSeamLink     *seamlinks;            /* local particle indices; stiffness set by the sewing phases */
+  PetscInt          *seamlink_model_index; /* index of each into model->seamlinks */
+  PetscReal          gravity_scale;        /* 1, or 0 while seams are pulled together (sewing.h) */
   PetscInt          *xadj, *adjncy; /* natural-order adjacency, kept for preallocation */
 
   Vec                position, velocity, work_force, work_kv;

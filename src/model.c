@@ -193,9 +193,63 @@ static PetscErrorCode AddPieceParticles(ClothModel model, const PieceContext *pc
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* Bending across a seam at one of its links: the two pieces continue each other straight across it. */
+static void AddSeamBending(ClothModel model, Scene scene, const SeamBendSite *site)
+{
+  const SceneFabric *fab = &scene->fabrics[scene->pieces[site->dense_piece].fabric];
+  const PetscReal   *x   = model->position;
+  PetscReal          la = 0, lb = 0, width = 0;
+
+  for (PetscInt c = 0; c < 3; c++) {
+    la += PetscSqr(x[3 * site->node + c] - x[3 * site->inner + c]);
+    lb += PetscSqr(x[3 * site->other_node + c] - x[3 * site->other_inner + c]);
+    width += PetscSqr(x[3 * site->node + c] - x[3 * site->along + c]);
+  }
+  la    = PetscSqrtReal(la);
+  lb    = PetscSqrtReal(lb);
+  width = PetscSqrtReal(width);
+  if (fab->bend_model == CLOTH_BEND_LINK) {
+    AddLink(model, site->inner, site->other_inner, FabricBendLinkStiffness(fab, site->dense_warp, la + lb, width), la + lb, 0, 0);
+  } else {
+    ClothAngle *angle = &model->angles[model->nangles++];
+    angle->p[0]       = site->inner;
+    angle->p[1]       = site->node;
+    angle->p[2]       = site->other_inner;
+    angle->kind       = CLOTH_ANGLE_CHAIN;
+    angle->k          = FabricBendAngleStiffness(fab, site->dense_warp, 0.5 * (la + lb), width);
+    angle->cos0       = 1;
+    angle->sin0       = 0;
+  }
+}
+
+/* Seam links and the bending across seams; uvs holds every piece's flat coordinates. */
+static PetscErrorCode AddSeams(ClothModel model, Scene scene, PetscReal *const uvs[])
+{
+  PetscFunctionBeginUser;
+  for (PetscInt s = 0; s < scene->nseams; s++) {
+    const SceneSeam *seam = &scene->seams[s];
+    SeamSide         a, b;
+    SeamBendSite    *bend;
+    PetscInt         n;
+
+    PetscCall(SeamSideCreate(scene, seam, &seam->a, uvs[seam->a.piece], &a));
+    PetscCall(SeamSideCreate(scene, seam, &seam->b, uvs[seam->b.piece], &b));
+    PetscCall(PetscMalloc1(PetscMax(a.n, b.n), &bend));
+    PetscCall(SeamBuildLinks(s, seam, &a, model->piece_offset[seam->a.piece], &b, model->piece_offset[seam->b.piece], &model->seamlinks[model->nseamlinks], bend, &n));
+    model->nseamlinks += n;
+    if (seam->bend)
+      for (PetscInt k = 0; k < n; k++)
+        if (bend[k].inner >= 0) AddSeamBending(model, scene, &bend[k]);
+    PetscCall(PetscFree(bend));
+    PetscCall(SeamSideDestroy(&a));
+    PetscCall(SeamSideDestroy(&b));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 static PetscErrorCode ClothModelAllocate(Scene scene, ClothModel model)
 {
-  PetscInt maxlinks = 0, maxangles = 0, ncells = 0;
+  PetscInt maxlinks = 0, maxangles = 0, ncells = 0, maxseam = 0;
 
   PetscFunctionBeginUser;
   PetscCall(PetscMalloc1(scene->npieces + 1, &model->piece_offset));
@@ -208,6 +262,13 @@ static PetscErrorCode ClothModelAllocate(Scene scene, ClothModel model)
     maxlinks += 4 * n + 2 * n; /* stretch + bending (both directions) + 2 shear per cell */
     maxangles += 4 * n + 2 * n;
   }
+  for (PetscInt s = 0; s < scene->nseams; s++) {
+    const ScenePiece *a = &scene->pieces[scene->seams[s].a.piece], *b = &scene->pieces[scene->seams[s].b.piece];
+    maxseam += PetscMax(PetscMax(a->nu, a->nv), PetscMax(b->nu, b->nv));
+  }
+  maxlinks += maxseam; /* bending across seams, one per seam link */
+  maxangles += maxseam;
+  PetscCall(PetscMalloc1(maxseam + 1, &model->seamlinks));
   model->nparticles = model->piece_offset[scene->npieces];
   PetscCall(PetscCalloc5(3 * model->nparticles, &model->position, model->nparticles, &model->mass, model->nparticles, &model->damping, model->nparticles, &model->pinned, 4 * ncells, &model->quads));
   PetscCall(PetscMalloc2(maxlinks, &model->links, maxangles, &model->angles));
@@ -217,16 +278,19 @@ static PetscErrorCode ClothModelAllocate(Scene scene, ClothModel model)
 PetscErrorCode ClothModelCreate(Scene scene, ClothModel *model)
 {
   ClothModel m;
+  PetscReal **uvs;
 
   PetscFunctionBeginUser;
   PetscCall(PetscNew(&m));
   PetscCall(ClothModelAllocate(scene, m));
+  PetscCall(PetscCalloc1(scene->npieces, &uvs));
   for (PetscInt k = 0; k < scene->npieces; k++) {
     const ScenePiece *piece = &scene->pieces[k];
     PetscReal        *uv;
     PieceContext      pc;
 
-    PetscCall(PetscMalloc1(2 * piece->nu * piece->nv, &uv));
+    PetscCall(PetscMalloc1(2 * piece->nu * piece->nv, &uvs[k]));
+    uv = uvs[k];
     PetscCall(PatternMeshPiece(piece, uv));
     pc.piece  = piece;
     pc.fabric = &scene->fabrics[piece->fabric];
@@ -236,8 +300,10 @@ PetscErrorCode ClothModelCreate(Scene scene, ClothModel *model)
     AddThreadInteractions(m, &pc, PETSC_TRUE);
     AddThreadInteractions(m, &pc, PETSC_FALSE);
     PetscCall(AddCellInteractions(m, &pc));
-    PetscCall(PetscFree(uv));
   }
+  PetscCall(AddSeams(m, scene, uvs)); /* after every piece: seams join pieces */
+  for (PetscInt k = 0; k < scene->npieces; k++) PetscCall(PetscFree(uvs[k]));
+  PetscCall(PetscFree(uvs));
   *model = m;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -262,6 +328,7 @@ PetscErrorCode ClothModelGetAdjacency(ClothModel model, PetscInt **xadj_out, Pet
   PetscCall(PetscCalloc1(n, &count));
   for (PetscInt l = 0; l < model->nlinks; l++) VisitPairs(model->links[l].p, 2, count, NULL);
   for (PetscInt a = 0; a < model->nangles; a++) VisitPairs(model->angles[a].p, 3, count, NULL);
+  for (PetscInt s = 0; s < model->nseamlinks; s++) VisitPairs(model->seamlinks[s].p, model->seamlinks[s].np, count, NULL);
   PetscCall(PetscMalloc1(n + 1, &xadj));
   xadj[0] = 0;
   for (PetscInt i = 0; i < n; i++) xadj[i + 1] = xadj[i] + count[i];
@@ -273,6 +340,7 @@ PetscErrorCode ClothModelGetAdjacency(ClothModel model, PetscInt **xadj_out, Pet
   }
   for (PetscInt l = 0; l < model->nlinks; l++) VisitPairs(model->links[l].p, 2, count, rows);
   for (PetscInt a = 0; a < model->nangles; a++) VisitPairs(model->angles[a].p, 3, count, rows);
+  for (PetscInt s = 0; s < model->nseamlinks; s++) VisitPairs(model->seamlinks[s].p, model->seamlinks[s].np, count, rows);
   /* Sort and remove duplicates row by row, then compact. */
   {
     PetscInt w = 0;
@@ -299,6 +367,7 @@ PetscErrorCode ClothModelDestroy(ClothModel *model)
   PetscCall(PetscFree5((*model)->position, (*model)->mass, (*model)->damping, (*model)->pinned, (*model)->quads));
   PetscCall(PetscFree2((*model)->links, (*model)->angles));
   PetscCall(PetscFree((*model)->piece_offset));
+  PetscCall(PetscFree((*model)->seamlinks));
   PetscCall(PetscFree(*model));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

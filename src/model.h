@@ -4,6 +4,7 @@
 #pragma once
 #include "scene.h"
 #include "forces.h"
+#include "seam.h"
 
 typedef struct _n_ClothModel *ClothModel;
 struct _n_ClothModel {
@@ -20,6 +21,8 @@ struct _n_ClothModel {
   PetscInt   *quads;        /* 4 per grid cell, counter-clockwise in the pattern plane */
   PetscInt    npieces;
   PetscInt   *piece_offset; /* npieces + 1: first particle of each piece */
+  PetscInt       nseamlinks;
+  ClothSeamLink *seamlinks; /* seam pairs (seam.h), in scene order of the seams */
 };
 
 PetscErrorCode ClothModelCreate(Scene scene, ClothModel *model);

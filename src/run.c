@@ -4,6 +4,7 @@
 #include "output.h"
 #include "checkpoint.h"
 #include "selfcontact.h"
+#include "sewing.h"
 #include "log.h"
 
 struct _n_ClothRun {
@@ -14,6 +15,7 @@ struct _n_ClothRun {
   ClothCollision  collision;       /* NULL when the scene has no bodies */
   ClothOutput     output;
   ClothSelfContact self_contact;   /* cloth-cloth collisions; attached to the cloth only when enabled */
+  ClothSewing     sewing;          /* garment assembly phases; NULL when the scene has no seams */
 
   PetscReal       dt, t_final;
   PetscInt        steps;           /* total steps of the run (from -steps or t_final / dt) */
@@ -31,6 +33,7 @@ struct _n_ClothRun {
   Vec             natural_position, natural_velocity, natural_dv; /* natural_dv: the implicit warm start */
   Vec             natural_contact;                                 /* contact normals (scenes with bodies) */
   Vec             natural_strain;                                  /* one value per particle, for frames */
+  Vec             natural_sewn;                                    /* sewn seams per particle (sewing.h), checkpoints */
   char            last_checkpoint[CLOTH_PATH_LEN];
   PetscInt        krylov_total, substeps_total;
 };
@@ -142,7 +145,7 @@ static PetscErrorCode ClothRunFillCheckpointInfo(ClothRun run, ClothCheckpointIn
    uninterrupted run's at the solver tolerance; left out with with_dv false) and, in scenes with bodies,
    the contact normals of the particles held on a body (the constraints of the next step). A field new
    state adds goes here. */
-static PetscErrorCode ClothRunCheckpointFields(ClothRun run, PetscBool with_dv, ClothCheckpointField fields[4], PetscInt *nfields)
+static PetscErrorCode ClothRunCheckpointFields(ClothRun run, PetscBool with_dv, ClothCheckpointField fields[5], PetscInt *nfields)
 {
   PetscInt n = 0;
 
@@ -151,6 +154,7 @@ static PetscErrorCode ClothRunCheckpointFields(ClothRun run, PetscBool with_dv, 
   fields[n++] = (ClothCheckpointField){"velocity", run->natural_velocity, PETSC_TRUE, PETSC_FALSE};
   if (with_dv) fields[n++] = (ClothCheckpointField){"implicit_dv", run->natural_dv, PETSC_FALSE, PETSC_FALSE};
   if (run->natural_contact) fields[n++] = (ClothCheckpointField){"contact_normal", run->natural_contact, PETSC_FALSE, PETSC_FALSE};
+  if (run->natural_sewn) fields[n++] = (ClothCheckpointField){"seams_sewn", run->natural_sewn, PETSC_TRUE, PETSC_FALSE};
   *nfields = n;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -185,7 +189,7 @@ static PetscErrorCode ClothRunAdoptCheckpointSettings(ClothRun run, const ClothC
 static PetscErrorCode ClothRunRestore(ClothRun run)
 {
   ClothCheckpointInfo  expect, info;
-  ClothCheckpointField fields[4];
+  ClothCheckpointField fields[5];
   PetscInt             nfields;
   Vec                  x, v, normals;
 
@@ -205,6 +209,7 @@ static PetscErrorCode ClothRunRestore(ClothRun run)
   }
   run->step = (PetscInt)info.step;
   run->time = info.time;
+  if (run->sewing) PetscCall(ClothSewingSetStateVec(run->sewing, run->natural_sewn, run->time));
   PetscCall(ClothRunAdoptCheckpointSettings(run, &info));
   PetscCall(PetscPrintf(run->comm, "Restarting from %s: step %" PetscInt_FMT ", t = %.6f s, dt = %g s (written by integrator %s, %s)\n", run->restart, run->step, (double)run->time, (double)info.dt, info.integrator, fields[2].found ? "with its warm start" : "without a warm start"));
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -284,6 +289,12 @@ PetscErrorCode ClothRunSetUp(ClothRun run)
   PetscCall(ClothCreateNaturalVec(run->cloth, &run->natural_dv));
   if (run->collision) PetscCall(ClothCreateNaturalVec(run->cloth, &run->natural_contact));
   PetscCall(ClothCreateStrainVec(run->cloth, &run->natural_strain));
+  if (run->scene->nseams > 0) {
+    PetscCall(ClothSewingCreate(run->cloth, run->scene, &run->sewing));
+    PetscCall(ClothSewingSetFromOptions(run->sewing));
+    PetscCall(ClothSewingSetUp(run->sewing));
+    PetscCall(VecDuplicate(run->natural_strain, &run->natural_sewn)); /* one value per particle */
+  }
   PetscCall(PetscObjectSetName((PetscObject)run->natural_position, "position"));
   PetscCall(PetscObjectSetName((PetscObject)run->natural_velocity, "velocity"));
   if (run->restart[0]) PetscCall(ClothRunRestore(run));
@@ -331,7 +342,7 @@ static PetscErrorCode ClothRunWriteFrame(ClothRun run)
 static PetscErrorCode ClothRunWriteCheckpoint(ClothRun run)
 {
   ClothCheckpointInfo  info;
-  ClothCheckpointField fields[4];
+  ClothCheckpointField fields[5];
   PetscInt             nfields;
   Vec                  dv, normals;
 
@@ -344,6 +355,7 @@ static PetscErrorCode ClothRunWriteCheckpoint(ClothRun run)
     PetscCall(ClothGetContactNormals(run->cloth, &normals));
     PetscCall(ClothScatterToNatural(run->cloth, normals, run->natural_contact, SCATTER_FORWARD));
   }
+  if (run->sewing) PetscCall(ClothSewingGetStateVec(run->sewing, run->natural_sewn));
   PetscCall(ClothRunCheckpointFields(run, dv ? PETSC_TRUE : PETSC_FALSE, fields, &nfields));
   PetscCall(ClothRunFillCheckpointInfo(run, &info));
   PetscCall(ClothCheckpointWrite(run->comm, run->output_dir, &info, nfields, fields, run->checkpoint_keep, run->last_checkpoint, sizeof(run->last_checkpoint)));
@@ -354,9 +366,17 @@ static PetscErrorCode ClothRunWriteCheckpoint(ClothRun run)
 static PetscErrorCode ClothRunProgress(ClothRun run, PetscInt first_step, double start, const ClothStepStats *stats)
 {
   const double wall = WallTime() - start, per_step = wall / (double)(run->step - first_step);
+  char         sewing[128] = "";
 
   PetscFunctionBeginUser;
-  PetscCall(PetscPrintf(run->comm, "step %6" PetscInt_FMT "/%" PetscInt_FMT "  t = %.5f s  wall %.2f s  KSP its %" PetscInt_FMT "%s  ETA %.1f s\n", run->step, run->steps, (double)run->time, wall, stats->krylov_iterations, stats->substeps > 1 ? " (step reduced)" : "", per_step * (double)(run->steps - run->step)));
+  if (run->sewing) {
+    ClothSewingPhase phase;
+    PetscInt         sewn, total;
+    PetscReal        gap;
+    PetscCall(ClothSewingGetStatus(run->sewing, &phase, &sewn, &total, &gap));
+    PetscCall(PetscSNPrintf(sewing, sizeof(sewing), "  sewing: %s, %" PetscInt_FMT "/%" PetscInt_FMT " sewn, widest gap %.1f mm", ClothSewingPhases[phase], sewn, total, (double)(1e3 * gap)));
+  }
+  PetscCall(PetscPrintf(run->comm, "step %6" PetscInt_FMT "/%" PetscInt_FMT "  t = %.5f s  wall %.2f s  KSP its %" PetscInt_FMT "%s  ETA %.1f s%s\n", run->step, run->steps, (double)run->time, wall, stats->krylov_iterations, stats->substeps > 1 ? " (step reduced)" : "", per_step * (double)(run->steps - run->step), sewing));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -404,6 +424,7 @@ PetscErrorCode ClothRunSolve(ClothRun run)
     run->time = run->dt_start_time + run->dt * (PetscReal)(run->step - run->dt_start_step);
     run->krylov_total += stats.krylov_iterations;
     run->substeps_total += stats.substeps;
+    if (run->sewing) PetscCall(ClothSewingUpdate(run->sewing, run->time));
     if ((run->output_every > 0 && run->step % run->output_every == 0) || run->step == run->steps) PetscCall(ClothRunWriteFrame(run));
     if (run->checkpoint_every > 0 && run->step % run->checkpoint_every == 0 && run->step < run->steps) PetscCall(ClothRunWriteCheckpoint(run));
     if (run->progress_seconds <= 0 || WallTime() - last_print >= run->progress_seconds || run->step == run->steps) {
@@ -452,6 +473,7 @@ PetscErrorCode ClothRunDestroy(ClothRun *run)
   PetscCall(ClothOutputDestroy(&r->output));
   PetscCall(ClothIntegratorDestroy(&r->integrator));
   PetscCall(ClothCollisionDestroy(&r->collision));
+  PetscCall(ClothSewingDestroy(&r->sewing));
   PetscCall(ClothDestroy(&r->cloth));
   PetscCall(ClothSelfContactDestroy(&r->self_contact)); /* after the cloth, which borrows it */
   PetscCall(VecDestroy(&r->natural_position));
@@ -459,6 +481,7 @@ PetscErrorCode ClothRunDestroy(ClothRun *run)
   PetscCall(VecDestroy(&r->natural_dv));
   PetscCall(VecDestroy(&r->natural_contact));
   PetscCall(VecDestroy(&r->natural_strain));
+  PetscCall(VecDestroy(&r->natural_sewn));
   PetscCall(PetscFree(*run));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -71,7 +71,7 @@ static const char *const SceneIntegrators[] = {"explicit", "symplectic", "implic
 
 /* Allowed keys per block (NULL-terminated). */
 static const char *const SceneTopKeys[]    = {"name", "gravity", "fabrics", "pieces", "run", "bodies", "self_collision", "seams", "sewing", NULL};
-static const char *const SceneFabricKeys[] = {"preset", "kes", "density", "stretch", "stretch_warp", "stretch_weft", "stretch_knee", "stretch_knee_warp", "stretch_knee_weft", "stretch_stiff", "stretch_stiff_warp", "stretch_stiff_weft", "shear", "shear_model", "bend", "bend_warp", "bend_weft", "bend_model", "damping", "repulsion", "repulsion_stiffness", NULL};
+static const char *const SceneFabricKeys[] = {"density", "stretch", "stretch_warp", "stretch_weft", "shear", "shear_model", "bend", "bend_warp", "bend_weft", "bend_model", "damping", "repulsion", "repulsion_stiffness", "preset", "kes", "stretch_knee", "stretch_knee_warp", "stretch_knee_weft", "stretch_stiff", "stretch_stiff_warp", "stretch_stiff_weft", NULL};
 static const char *const ScenePieceKeys[]  = {"name", "fabric", "grid", "size", "boundaries", "origin", "u_axis", "v_axis", "mass", "pins", "pin_disc", "pin_box", NULL};
 static const char *const SceneBoundaryKeys[] = {"bottom", "right", "top", "left", "nodes", NULL}; /* bottom, right, top, left: the order of ScenePiece.boundary_* */
 static const char *const SceneKESKeys[]      = {"W", "B_warp", "B_weft", "G", "EMT_warp", "EMT_weft", "LT_warp", "LT_weft", NULL};
@@ -793,7 +793,8 @@ static PetscErrorCode CheckBoundaryCorners(SceneReader *r, yaml_node_t *node, co
     const PetscReal *p = &piece->boundary_points[meet[c][0]][meet[c][1] ? 2 * (piece->boundary_npoints[meet[c][0]] - 1) : 0];
     const PetscReal *q = &piece->boundary_points[meet[c][2]][meet[c][3] ? 2 * (piece->boundary_npoints[meet[c][2]] - 1) : 0];
 
-    if (PetscSqrtReal(PetscSqr(p[0] - q[0]) + PetscSqr(p[1] - q[1])) > 1e-9 * PetscMax(extent, 1.0))
+    /* 1e-6 of the outline's size: coordinates typed with 7 digits still join */
+    if (PetscSqrtReal(PetscSqr(p[0] - q[0]) + PetscSqr(p[1] - q[1])) > 1e-6 * extent)
       PetscCall(SceneFailValue(r, node, "boundaries", "boundaries that meet at the corners (bottom and left from corner (0, 0), bottom to right, left to top, right and top to the far corner); here the %s of %s is (%g, %g) but the %s of %s is (%g, %g)", meet[c][1] ? "end" : "start",
                                SceneBoundaryKeys[meet[c][0]], (double)p[0], (double)p[1], meet[c][3] ? "end" : "start", SceneBoundaryKeys[meet[c][2]], (double)q[0], (double)q[1]));
   }
@@ -1390,6 +1391,8 @@ static PetscErrorCode ScenePieceView(Scene scene, const ScenePiece *p, PetscView
   else PetscCall(SceneAppendItem(list, sizeof(list), "size %g x %g m", (double)p->size[0], (double)p->size[1]));
   PetscCall(SceneAppendItem(list, sizeof(list), "mass %s", ClothMassDistributions[p->mass_distribution]));
   PetscCall(SceneAppendItem(list, sizeof(list), "%" PetscInt_FMT " pin%s", p->npins, p->npins == 1 ? "" : "s"));
+  if (p->pin_disc[2] > 0) PetscCall(SceneAppendItem(list, sizeof(list), "pinned within %g m of (%g, %g)", (double)p->pin_disc[2], (double)p->pin_disc[0], (double)p->pin_disc[1]));
+  if (p->pin_box[2] > p->pin_box[0]) PetscCall(SceneAppendItem(list, sizeof(list), "pinned in [%g, %g] x [%g, %g]", (double)p->pin_box[0], (double)p->pin_box[2], (double)p->pin_box[1], (double)p->pin_box[3]));
   PetscCall(SceneAppendItem(frame, sizeof(frame), "origin (%g, %g, %g) m", (double)p->origin[0], (double)p->origin[1], (double)p->origin[2]));
   PetscCall(SceneAppendItem(frame, sizeof(frame), "u_axis (%g, %g, %g)", (double)p->u_axis[0], (double)p->u_axis[1], (double)p->u_axis[2]));
   PetscCall(SceneAppendItem(frame, sizeof(frame), "v_axis (%g, %g, %g)", (double)p->v_axis[0], (double)p->v_axis[1], (double)p->v_axis[2]));
@@ -1449,6 +1452,8 @@ PetscErrorCode SceneView(Scene scene, PetscViewer viewer)
   for (PetscInt p = 0; p < scene->npieces; p++) PetscCall(ScenePieceView(scene, &scene->pieces[p], viewer));
   PetscCall(SceneRunView(&scene->run, viewer));
   for (PetscInt b = 0; b < scene->nbodies; b++) PetscCall(SceneBodyView(&scene->bodies[b], viewer));
+  if (scene->self_collision.enabled)
+    PetscCall(PetscViewerASCIIPrintf(viewer, "self-collision: thickness %g m, stiffness %g N/m, %" PetscInt_FMT " ring(s) excluded%s\n", (double)scene->self_collision.thickness, (double)scene->self_collision.stiffness, scene->self_collision.exclude_ring, scene->self_collision.same_piece ? "" : ", pieces do not collide with themselves"));
   PetscCall(PetscViewerASCIIPopTab(viewer));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -7,6 +7,7 @@
       velocity (damping). Relative error below 1e-6 everywhere. Prints nothing unless a check fails. */
 #include <petscsys.h>
 #include "forces.h"
+#include "seam.h"
 #include "cloth.h"
 
 static const PetscReal tolerance = 1e-6;
@@ -54,6 +55,15 @@ static PetscErrorCode AngleFunction(const void *ctx, const PetscReal *x, PetscRe
 {
   PetscFunctionBeginUser;
   PetscCall(ClothAngleEvaluate((const ClothAngle *)ctx, &x[0], &x[3], &x[6], PETSC_FALSE, E, f, H));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode SeamLinkFunction(const void *ctx, const PetscReal *x, PetscReal *E, PetscReal *f, PetscReal *H)
+{
+  const PetscReal *xs[3] = {&x[0], &x[3], &x[6]};
+
+  PetscFunctionBeginUser;
+  PetscCall(ClothSeamLinkEvaluate((const ClothSeamLink *)ctx, xs, E, f, H));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -124,6 +134,16 @@ static PetscErrorCode CheckElements(PetscRandom rnd)
       angle.cos0 = PetscCosReal(theta0);
       angle.sin0 = PetscSinReal(theta0);
       PetscCall(CheckElement(AngleFunction, &angle, 3, x, kind ? "chain angle" : "corner angle"));
+    }
+    {
+      /* a seam link to an interpolated point: quadratic core (odd trials) and constant pull (even) */
+      const PetscReal w    = Uniform(rnd, 0.1, 0.9);
+      ClothSeamLink   seam = {3, {0, 1, 2}, {1.0, -(1.0 - w), -w}, 0, 0.0, 0.0};
+      PetscReal       g2   = 0;
+      for (PetscInt c = 0; c < 3; c++) g2 += PetscSqr(x[c] - (1 - w) * x[3 + c] - w * x[6 + c]);
+      seam.pull_force = Uniform(rnd, 1e-4, 1e-2);
+      seam.k          = seam.pull_force / (PetscSqrtReal(g2) * ((trial % 2) ? 1.5 : 0.5)); /* r = F / k vs the gap */
+      PetscCall(CheckElement(SeamLinkFunction, &seam, 3, x, (trial % 2) ? "seam link (quadratic core)" : "seam link (constant pull)"));
     }
   }
   PetscFunctionReturn(PETSC_SUCCESS);

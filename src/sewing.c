@@ -1,0 +1,198 @@
+/* ClothSewing (see sewing.h). */
+#include "sewing.h"
+#include "seam.h"
+
+const char *const ClothSewingPhases[] = {"pull", "settle", "ClothSewingPhase", "CLOTH_SEWING_", NULL};
+
+struct _n_ClothSewing {
+  Cloth            cloth;
+  SceneSewing      params;
+  ClothSewingPhase phase;
+  PetscInt         nlinks; /* seam links of the whole model */
+  PetscInt        *sewn;   /* per model seam link: 1 once sewn; the same on every rank */
+  PetscInt        *closed; /* work: links this rank found closed in the last step */
+  PetscReal        max_time;
+};
+
+PetscErrorCode ClothSewingCreate(Cloth cloth, Scene scene, ClothSewing *sewing)
+{
+  ClothSewing s;
+  ClothModel  model;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscNew(&s));
+  PetscCall(ClothGetModel(cloth, &model));
+  s->cloth    = cloth;
+  s->params   = scene->sewing;
+  s->phase    = CLOTH_SEWING_PULL;
+  s->nlinks   = model->nseamlinks;
+  s->max_time = scene->sewing.max_time;
+  PetscCall(PetscCalloc2(s->nlinks, &s->sewn, s->nlinks, &s->closed));
+  *sewing = s;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothSewingSetFromOptions(ClothSewing sewing)
+{
+  PetscFunctionBeginUser;
+  PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Sewing (garment assembly)", "ClothSewing");
+  PetscCall(PetscOptionsReal("-sewing_max_time", "Seconds of pulling after which gravity comes on even if pairs are still open", "ClothSewingUpdate", sewing->max_time, &sewing->max_time, NULL));
+  PetscOptionsEnd();
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Seam stiffnesses and gravity for the current phase and sewn set. */
+static PetscErrorCode ClothSewingApply(ClothSewing sewing)
+{
+  ClothModel       model;
+  ClothSeamLink   *links;
+  const PetscInt  *model_index;
+  PetscInt         n;
+
+  PetscFunctionBeginUser;
+  PetscCall(ClothGetModel(sewing->cloth, &model));
+  PetscCall(ClothGetSeamLinks(sewing->cloth, &n, &links, &model_index));
+  for (PetscInt l = 0; l < n; l++) {
+    const ClothSeamLink *global = &model->seamlinks[model_index[l]];
+    PetscReal            mass   = 0;
+    for (PetscInt k = 0; k < global->np; k++) mass += 0.5 * PetscAbsReal(global->c[k]) * model->mass[global->p[k]];
+    if (sewing->sewn[model_index[l]]) {
+      links[l].pull_force = 0;
+      links[l].k          = sewing->params.sewn_stiffness;
+    } else {
+      links[l].pull_force = sewing->params.pull_acceleration * mass;
+      links[l].k          = links[l].pull_force / sewing->params.pull_radius;
+    }
+  }
+  PetscCall(ClothSetGravityScale(sewing->cloth, sewing->phase == CLOTH_SEWING_PULL ? 0.0 : 1.0));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothSewingSetUp(ClothSewing sewing)
+{
+  PetscFunctionBeginUser;
+  PetscCall(ClothSewingApply(sewing));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Gap of every local seam link at the current positions; the largest in *max_gap, and the links
+   under the tolerance flagged in sewing->closed (model numbering). */
+static PetscErrorCode ClothSewingMeasure(ClothSewing sewing, PetscReal *max_gap)
+{
+  ClothSeamLink     *links;
+  const PetscInt    *model_index;
+  const PetscScalar *x;
+  PetscInt           n;
+
+  PetscFunctionBeginUser;
+  *max_gap = 0;
+  PetscCall(PetscArrayzero(sewing->closed, sewing->nlinks));
+  PetscCall(ClothGetSeamLinks(sewing->cloth, &n, &links, &model_index));
+  PetscCall(ClothGetLocalPositionArray(sewing->cloth, &x));
+  for (PetscInt l = 0; l < n; l++) {
+    const PetscReal *xs[CLOTH_SEAM_LINK_MAX_PARTICLES];
+    PetscReal        gap;
+    for (PetscInt k = 0; k < links[l].np; k++) xs[k] = &x[3 * links[l].p[k]];
+    gap      = ClothSeamLinkGap(&links[l], xs);
+    *max_gap = PetscMax(*max_gap, gap);
+    if (gap <= sewing->params.tolerance) sewing->closed[model_index[l]] = 1;
+  }
+  PetscCall(ClothRestoreLocalPositionArray(sewing->cloth, &x));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothSewingUpdate(ClothSewing sewing, PetscReal time)
+{
+  PetscReal local_gap, max_gap;
+  PetscInt  nsewn = 0;
+
+  PetscFunctionBeginUser;
+  if (sewing->nlinks == 0 || sewing->phase == CLOTH_SEWING_SETTLE) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(ClothSewingMeasure(sewing, &local_gap));
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, sewing->closed, (PetscMPIInt)sewing->nlinks, MPIU_INT, MPI_MAX, PETSC_COMM_WORLD));
+  PetscCallMPI(MPI_Allreduce(&local_gap, &max_gap, 1, MPIU_REAL, MPIU_MAX, PETSC_COMM_WORLD));
+  for (PetscInt l = 0; l < sewing->nlinks; l++) {
+    sewing->sewn[l] = PetscMax(sewing->sewn[l], sewing->closed[l]);
+    nsewn += sewing->sewn[l];
+  }
+  if (nsewn == sewing->nlinks) {
+    sewing->phase = CLOTH_SEWING_SETTLE;
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "Sewing: all %" PetscInt_FMT " seam pairs sewn at t = %.4f s; gravity on\n", sewing->nlinks, (double)time));
+  } else if (time >= sewing->max_time) {
+    sewing->phase = CLOTH_SEWING_SETTLE;
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "WARNING: sewing time %.3f s reached with %" PetscInt_FMT " of %" PetscInt_FMT " seam pairs open (widest gap %.4f m); gravity on, the open pairs keep pulling\n", (double)time, sewing->nlinks - nsewn, sewing->nlinks, (double)max_gap));
+  }
+  PetscCall(ClothSewingApply(sewing));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothSewingGetStatus(ClothSewing sewing, ClothSewingPhase *phase, PetscInt *sewn, PetscInt *total, PetscReal *max_gap)
+{
+  PetscReal local_gap;
+  PetscInt  count = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(ClothSewingMeasure(sewing, &local_gap));
+  if (max_gap) PetscCallMPI(MPI_Allreduce(&local_gap, max_gap, 1, MPIU_REAL, MPIU_MAX, PETSC_COMM_WORLD));
+  for (PetscInt l = 0; l < sewing->nlinks; l++) count += sewing->sewn[l];
+  if (phase) *phase = sewing->phase;
+  if (sewn) *sewn = count;
+  if (total) *total = sewing->nlinks;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothSewingGetStateVec(ClothSewing sewing, Vec sewn)
+{
+  ClothModel   model;
+  PetscScalar *a;
+  PetscInt     lo, hi;
+
+  PetscFunctionBeginUser;
+  PetscCall(ClothGetModel(sewing->cloth, &model));
+  PetscCheck(model->nseamlinks == 0 || sewing->nlinks == model->nseamlinks, PETSC_COMM_WORLD, PETSC_ERR_PLIB, "Sewing state and model disagree");
+  PetscCall(VecZeroEntries(sewn));
+  PetscCall(VecGetOwnershipRange(sewn, &lo, &hi));
+  PetscCall(VecGetArray(sewn, &a));
+  for (PetscInt l = 0; l < sewing->nlinks; l++) {
+    const PetscInt node = model->seamlinks[l].p[0];
+    if (sewing->sewn[l] && node >= lo && node < hi) a[node - lo] += PetscPowReal(2.0, (PetscReal)model->seamlinks[l].seam);
+  }
+  PetscCall(VecRestoreArray(sewn, &a));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothSewingSetStateVec(ClothSewing sewing, Vec sewn, PetscReal time)
+{
+  ClothModel         model;
+  VecScatter         to_all;
+  Vec                all;
+  const PetscScalar *a;
+  PetscInt           nsewn = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(ClothGetModel(sewing->cloth, &model));
+  PetscCall(VecScatterCreateToAll(sewn, &to_all, &all));
+  PetscCall(VecScatterBegin(to_all, sewn, all, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(to_all, sewn, all, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecGetArrayRead(all, &a));
+  for (PetscInt l = 0; l < sewing->nlinks; l++) {
+    const PetscInt64 bits = (PetscInt64)PetscRealPart(a[model->seamlinks[l].p[0]]);
+    sewing->sewn[l]       = (PetscInt)((bits >> model->seamlinks[l].seam) & 1);
+    nsewn += sewing->sewn[l];
+  }
+  PetscCall(VecRestoreArrayRead(all, &a));
+  PetscCall(VecScatterDestroy(&to_all));
+  PetscCall(VecDestroy(&all));
+  sewing->phase = (nsewn == sewing->nlinks || time >= sewing->max_time) ? CLOTH_SEWING_SETTLE : CLOTH_SEWING_PULL;
+  PetscCall(ClothSewingApply(sewing));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothSewingDestroy(ClothSewing *sewing)
+{
+  PetscFunctionBeginUser;
+  if (!*sewing) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(PetscFree2((*sewing)->sewn, (*sewing)->closed));
+  PetscCall(PetscFree(*sewing));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
