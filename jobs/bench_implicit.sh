@@ -16,7 +16,8 @@
 #   cpu_s                user + system CPU seconds of all ranks (/usr/bin/time, when installed): on a shared,
 #                        overloaded machine wall times stretch, CPU times much less
 #   load                 the 1-minute load average when the run started (above the core count: wall times are inflated)
-# Results: jobs/results/bench_implicit.csv (appended) and jobs/results/bench_implicit/grid_N_np_P.log.
+# Results: jobs/results/bench_implicit.csv (appended), jobs/results/bench_implicit/grid_N_np_P_t_T.log, and the
+# table of the whole CSV in docs/foundation.md (jobs/bench_table.py).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 clothsim=${CLOTHSIM:-build/clothsim}
@@ -32,7 +33,7 @@ mkdir -p "$logs"
 
 for grid in $grids; do
   for ranks in $ranks_list; do
-    log=$logs/grid_${grid}_np_${ranks}.log
+    log=$logs/grid_${grid}_np_${ranks}_t_${t_final}.log
     echo "== grid $grid on $ranks rank(s): $log"
     timer=()
     [[ -x /usr/bin/time ]] && timer=(/usr/bin/time -f "cpu_seconds %U %S" -o "$log.time")
@@ -64,3 +65,4 @@ PY
     echo "$row,$(date -u +%FT%TZ),$(hostname -s)" | tee -a "$csv"
   done
 done
+/usr/bin/python3 jobs/bench_table.py "$csv" docs/foundation.md

@@ -7,7 +7,9 @@
 Each case is one run `mpiexec -n R build/clothsim -scene input/hanging_sheet.yaml -grid N -steps S
 -output_every 0 -log_view`, started directly (default) or as a Slurm job (--sbatch: `sbatch --wait
 --ntasks=R`, Slurm configured). The time per step is the wall time of clothsim's "Time steps" log stage
-(-log_view, max over ranks) divided by the steps; Krylov iterations per step come from its "Done:" line.
+(-log_view, max over ranks) divided by the steps; Krylov iterations per step come from its "Done:" line,
+and the time per Krylov iteration (stage time / iterations) separates the parallel cost from the growth
+of the iteration count with the sheet size.
 Strong: speedup = T(1 rank) / T(R), efficiency = speedup / R. Weak: efficiency = T(1) / T(R) per step,
 speedup = R x efficiency (scaled speedup). A rank count above the cores of the machine is marked
 "oversubscribed" (its numbers are not a scaling result). The load average before each run is recorded:
@@ -85,7 +87,7 @@ def run_case(args, kind, ranks, grid, steps):
         "study": kind, "ranks": ranks, "oversubscribed": "yes" if ranks > args.cores else "no",
         "grid": grid, "particles": grid * grid, "particles_per_rank": grid * grid // ranks, "steps": nsteps,
         "time_steps_stage_s": stage[0], "time_per_step_s": stage[0] / nsteps,
-        "krylov_per_step": krylov / nsteps, "substeps": substeps, "run_wall_s": round(wall, 2),
+        "krylov_per_step": krylov / nsteps, "time_per_krylov_ms": 1e3 * stage[0] / max(krylov, 1), "substeps": substeps, "run_wall_s": round(wall, 2),
         "load_before": round(load, 2), "log": os.path.relpath(log, args.out),
     }
 
@@ -183,7 +185,7 @@ def main():
             rows.append(r)
     add_speedup(rows)
     fields = ["study", "ranks", "oversubscribed", "grid", "particles", "particles_per_rank", "steps",
-              "time_steps_stage_s", "time_per_step_s", "speedup", "efficiency", "krylov_per_step", "substeps",
+              "time_steps_stage_s", "time_per_step_s", "speedup", "efficiency", "krylov_per_step", "time_per_krylov_ms", "substeps",
               "run_wall_s", "load_before", "log"]
     csv_path = os.path.join(args.out, "scaling.csv")
     with open(csv_path, "w", newline="") as f:

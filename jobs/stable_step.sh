@@ -33,13 +33,13 @@ D=tests/data/hanging_sheet_damped.yaml
 # (10^7 steps), and already 33 x 33 needs more than 15 minutes per probe; the smaller grids and the
 # damped scene show its behaviour at affordable cost.
 default_cases=(
-  $U 65 implicit 0.01    $U 65 symplectic 1e-4
-  $U 33 implicit 0.01    $U 33 symplectic 3e-4
-  $U 17 implicit 0.01    $U 17 symplectic 5e-4    $U 17 explicit 1e-6
-  $U 9  implicit 0.01    $U 9  symplectic 1e-3    $U 9  explicit 1e-5
-  $D 65 implicit 0.01    $D 65 symplectic 1e-4
-  $D 17 implicit 0.01    $D 17 symplectic 5e-4    $D 17 explicit 1e-6
-  $D 9  implicit 0.01    $D 9  symplectic 1e-3    $D 9  explicit 1e-5
+  "$U" 65 implicit 0.01    "$U" 65 symplectic 1e-4
+  "$U" 33 implicit 0.01    "$U" 33 symplectic 3e-4
+  "$U" 17 implicit 0.01    "$U" 17 symplectic 5e-4    "$U" 17 explicit 1e-6
+  "$U" 9  implicit 0.01    "$U" 9  symplectic 1e-3    "$U" 9  explicit 1e-5
+  "$D" 65 implicit 0.01    "$D" 65 symplectic 1e-4
+  "$D" 17 implicit 0.01    "$D" 17 symplectic 5e-4    "$D" 17 explicit 1e-6
+  "$D" 9  implicit 0.01    "$D" 9  symplectic 1e-3    "$D" 9  explicit 1e-5
 )
 cases=("$@")
 [[ ${#cases[@]} -gt 0 ]] || cases=("${default_cases[@]}")

@@ -54,13 +54,15 @@ for r in cant:
     err = f"{100 * r['error']:+.1f}%" if r["error"] is not None else "-"
     print(f"| {r['fabric']} | {r['direction']} | {r['c_theory_cm']:.3f} | {sim} | {err} |")
 print()
-print("| fabric | mean c, cm | " + " | ".join(f"DC grid {n}" for n in grids) + " | change |")
+print("| fabric | mean c, cm | " + " | ".join(f"DC grid {n} (folds, final max speed m/s)" for n in grids) + " | change |")
 print("|---|---|" + "---|" * (len(grids) + 1))
 mean_c = {}
 for r in cant:
     mean_c.setdefault(r["fabric"], []).append(r["c_theory_cm"])
 for fabric in sorted(mean_c, key=lambda f: sum(mean_c[f])):
-    dcs = [json.load(open(os.path.join(out, f"cusick_{fabric}_{n}.json")))["drape_coefficient"] for n in grids]
-    print(f"| {fabric} | {sum(mean_c[fabric]) / len(mean_c[fabric]):.3f} | " + " | ".join(f"{d:.3f}" for d in dcs) + f" | {dcs[-1] - dcs[0]:+.3f} |")
+    runs = [json.load(open(os.path.join(out, f"cusick_{fabric}_{n}.json"))) for n in grids]
+    dcs = [r["drape_coefficient"] for r in runs]
+    cells = [f"{r['drape_coefficient']:.3f} ({r['folds']}, {r['max_speed']:.0e})" for r in runs]
+    print(f"| {fabric} | {sum(mean_c[fabric]) / len(mean_c[fabric]):.3f} | " + " | ".join(cells) + f" | {dcs[-1] - dcs[0]:+.3f} |")
 PY
 cat "$out/cantilever.txt" "$out/summary.md"

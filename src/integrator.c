@@ -75,8 +75,8 @@ static PetscErrorCode UpdateSelfContact(ClothIntegrator integ, PetscReal h)
   PetscFunctionBeginUser;
   PetscCall(ClothGetSelfContact(integ->cloth, &sc));
   if (!sc) PetscFunctionReturn(PETSC_SUCCESS);
-  PetscCall(ClothSelfContactUpdate(sc, h, &grown));
-  if (grown && integ->A) {
+  PetscCall(ClothSelfContactUpdate(sc, h, integ->A ? &grown : NULL)); /* no matrix, no pattern to keep */
+  if (integ->A && grown) {
     PetscCall(MatDestroy(&integ->A));
     PetscCall(ClothCreateMatrix(integ->cloth, &integ->A));
   }

@@ -40,23 +40,23 @@ struct _n_ClothSelfContact {
 
   /* the last search: "contact-local" particles are the owned ones (0 .. nlocal-1, solver order)
      followed by the remote ones received from other ranks */
-  PetscInt     nremote, *remote_natural;
-  PetscInt     nremote_prev;  /* remote particles listed in natural_of */
-  PetscInt    *tri_mark, *edge_mark; /* per primitive: the search (or query) that last visited it */
-  PetscInt     visit;
-  PetscInt    *natural_of;    /* contact-local -> natural */
-  PetscInt    *contact_index; /* natural -> contact-local, -1 when not present (size N) */
-  PetscReal   *x, *dx;        /* contact-local positions at the search, displacements over the step */
-  Vec          xremote, vremote, fremote, kvremote, bremote; /* bremote: body-contact normals */
-  VecScatter   remote_scatter; /* cloth state -> remote particles */
-  PetscInt     ncontacts, maxcontacts;
-  ClothContact *contacts;      /* natural numbering */
-  PetscInt    *local;          /* 4 contact-local indices per contact */
+  PetscInt      nremote, *remote_natural;
+  PetscInt      nremote_prev;         /* remote particles listed in natural_of */
+  PetscInt     *tri_mark, *edge_mark; /* per primitive: the search (or query) that last visited it */
+  PetscInt      visit;
+  PetscInt     *natural_of;                                   /* contact-local -> natural */
+  PetscInt     *contact_index;                                /* natural -> contact-local, -1 when not present (size N) */
+  PetscReal    *x, *dx;                                       /* contact-local positions at the search, displacements over the step */
+  Vec           xremote, vremote, fremote, kvremote, bremote; /* bremote: body-contact normals */
+  VecScatter    remote_scatter;                               /* cloth state -> remote particles */
+  PetscInt      ncontacts, maxcontacts;
+  ClothContact *contacts; /* natural numbering */
+  PetscInt     *local;    /* 4 contact-local indices per contact */
 
   /* blocks of the implicit matrix beyond the static pattern, for owned rows: keys row * N + col (solver) */
   PetscInt    nextra;
   PetscInt64 *extra;
-  PetscInt    rebuilds;        /* how often the matrix pattern had to grow */
+  PetscInt    rebuilds;                           /* how often the matrix pattern had to grow */
   PetscInt    searches, contacts_found, impulses; /* statistics for the view (summed over ranks where relevant) */
 };
 
@@ -85,12 +85,12 @@ static void ClosestPointTriangle(const PetscReal p[3], const PetscReal a[3], con
     bp[k] = p[k] - b[k];
     cp[k] = p[k] - c[k];
   }
-  d1 = Dot3(ab, ap);
-  d2 = Dot3(ac, ap);
-  d3 = Dot3(ab, bp);
-  d4 = Dot3(ac, bp);
-  d5 = Dot3(ab, cp);
-  d6 = Dot3(ac, cp);
+  d1   = Dot3(ab, ap);
+  d2   = Dot3(ac, ap);
+  d3   = Dot3(ab, bp);
+  d4   = Dot3(ac, bp);
+  d5   = Dot3(ab, cp);
+  d6   = Dot3(ac, cp);
   w[0] = 1, w[1] = 0, w[2] = 0;
   if (d1 <= 0 && d2 <= 0) return;
   w[0] = 0, w[1] = 1;
@@ -147,8 +147,10 @@ static void ClosestPointsSegments(const PetscReal p1[3], const PetscReal q1[3], 
   denom = a * e - b * b;
   *s    = denom > 0 ? Clamp01((b * f - c * e) / denom) : 0; /* parallel: any s, take 0 */
   *t    = (b * *s + f) / e;
-  if (*t < 0) *t = 0, *s = Clamp01(-c / a);
-  else if (*t > 1) *t = 1, *s = Clamp01((b - c) / a);
+  if (*t < 0)
+    *t = 0, *s = Clamp01(-c / a);
+  else if (*t > 1)
+    *t = 1, *s = Clamp01((b - c) / a);
 }
 
 /* r = sum_k a[k] x[k] */
@@ -260,8 +262,10 @@ static PetscErrorCode CellGridBuild(CellGrid *g, const PetscReal region[6], Pets
         for (PetscInt j = lo[1]; j <= hi[1]; j++)
           for (PetscInt k = lo[2]; k <= hi[2]; k++) {
             const PetscInt cell = (i * g->n[1] + j) * g->n[2] + k;
-            if (pass == 0) g->start[cell + 1]++;
-            else g->item[g->start[cell] + fill[cell]++] = b;
+            if (pass == 0)
+              g->start[cell + 1]++;
+            else
+              g->item[g->start[cell] + fill[cell]++] = b;
           }
     }
     if (pass == 0) {
@@ -305,14 +309,14 @@ static int CompareInt64(const void *a, const void *b)
 static PetscErrorCode BuildPrimitives(ClothSelfContact sc, ClothModel m)
 {
   const PetscInt side[5][2] = {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {0, 2}};
-  PetscInt       n = 0;
+  PetscInt       n          = 0;
 
   PetscFunctionBeginUser;
   sc->ntri = 2 * m->nquads;
   PetscCall(PetscMalloc1(3 * sc->ntri + 1, &sc->tri));
   PetscCall(PetscMalloc1(10 * m->nquads + 2, &sc->edge));
   for (PetscInt q = 0; q < m->nquads; q++) {
-    const PetscInt *c = &m->quads[4 * q];
+    const PetscInt *c  = &m->quads[4 * q];
     sc->tri[6 * q + 0] = c[0], sc->tri[6 * q + 1] = c[1], sc->tri[6 * q + 2] = c[2];
     sc->tri[6 * q + 3] = c[0], sc->tri[6 * q + 4] = c[2], sc->tri[6 * q + 5] = c[3];
     for (PetscInt e = 0; e < 5; e++) {
@@ -566,7 +570,7 @@ static PetscErrorCode CollectPrimitives(ClothSelfContact sc, PetscInt nv, const 
   for (PetscInt k = 0; k < nparticles; k++) {
     const PetscInt g = sc->natural_of[k];
     for (PetscInt q = start[g]; q < start[g + 1]; q++) {
-      const PetscInt t = of[q];
+      const PetscInt t       = of[q];
       PetscBool      present = PETSC_TRUE;
       if (mark[t] == sc->visit) continue;
       mark[t] = sc->visit;
@@ -584,7 +588,7 @@ static PetscErrorCode CollectPrimitives(ClothSelfContact sc, PetscInt nv, const 
     }
     SweptBoxOf(xs, ds, nv, inflate, &(*boxes)[6 * k]);
     for (PetscInt v = 0; v < nv; v++) {
-      const PetscReal *b = xs[(v + 1) % nv];
+      const PetscReal *b    = xs[(v + 1) % nv];
       PetscReal        d[3] = {b[0] - xs[v][0], b[1] - xs[v][1], b[2] - xs[v][2]};
       *longest              = PetscMax(*longest, PetscSqrtReal(Dot3(d, d)));
     }
@@ -701,7 +705,7 @@ static PetscErrorCode FindEdgeEdge(ClothSelfContact sc, PetscReal radius, const 
             PetscBool        excluded, hit;
 
             if (e2 <= e1 && (e2 == e1 || EdgeHasOwned(sc, e2))) continue; /* itself, or found from e2 */
-            if (!CellOwnsPair(&g, k1, k2, i, j, l)) continue;               /* met in another cell */
+            if (!CellOwnsPair(&g, k1, k2, i, j, l)) continue;             /* met in another cell */
             if (!BoxesOverlap(&boxes[6 * k1], &boxes[6 * k2])) continue;
             contact.p[0] = sc->edge[2 * first], contact.p[1] = sc->edge[2 * first + 1];
             contact.p[2] = sc->edge[2 * second], contact.p[3] = sc->edge[2 * second + 1];
@@ -810,11 +814,11 @@ static PetscBool StaticallyCoupled(Cloth cloth, PetscInt a, PetscInt b)
    static pattern, sent to the owners of the rows; sorted, without duplicates. Collective. */
 static PetscErrorCode ContactBlocks(ClothSelfContact sc, PetscInt *nkeys, PetscInt64 **keys)
 {
-  const Cloth  cloth = sc->cloth;
-  const PetscInt64 N = cloth->nglobal;
-  PetscMPIInt *scount, *rcount, *sdispl, *rdispl;
-  PetscInt64  *send, *recv;
-  PetscInt     nsend = 0, n = 0, *dest;
+  const Cloth      cloth = sc->cloth;
+  const PetscInt64 N     = cloth->nglobal;
+  PetscMPIInt     *scount, *rcount, *sdispl, *rdispl;
+  PetscInt64      *send, *recv;
+  PetscInt         nsend = 0, n = 0, *dest;
 
   PetscFunctionBeginUser;
   PetscCall(PetscCalloc4(sc->size, &scount, sc->size, &rcount, sc->size + 1, &sdispl, sc->size + 1, &rdispl));
@@ -830,7 +834,7 @@ static PetscErrorCode ContactBlocks(ClothSelfContact sc, PetscInt *nkeys, PetscI
       }
   for (PetscMPIInt r = 0; r < sc->size; r++) sdispl[r + 1] = sdispl[r] + scount[r];
   {
-    PetscInt64 *sorted;
+    PetscInt64  *sorted;
     PetscMPIInt *fill;
     PetscCall(PetscMalloc1(nsend + 1, &sorted));
     PetscCall(PetscCalloc1(sc->size, &fill));
@@ -858,8 +862,8 @@ static PetscErrorCode ContactBlocks(ClothSelfContact sc, PetscInt *nkeys, PetscI
    the needed ones once the union has grown beyond twice their number. Collective. */
 static PetscErrorCode UpdatePattern(ClothSelfContact sc, PetscBool *changed)
 {
-  PetscInt    n    = 0, nunion = 0;
-  PetscInt64 *keys = NULL, *both;
+  PetscInt    n = 0, nunion = 0;
+  PetscInt64 *keys    = NULL, *both;
   PetscBool   missing = PETSC_FALSE;
 
   PetscFunctionBeginUser;
@@ -901,11 +905,15 @@ PetscErrorCode ClothSelfContactCountRowBlocks_Private(ClothSelfContact sc, Petsc
     const PetscInt  row = (PetscInt)(sc->extra[k] / N), col = (PetscInt)(sc->extra[k] % N), i = row - cloth->rstart;
     const PetscBool owned = (col >= cloth->rstart && col < cloth->rstart + cloth->nlocal) ? PETSC_TRUE : PETSC_FALSE;
     PetscCheck(i >= 0 && i < cloth->nlocal, PETSC_COMM_SELF, PETSC_ERR_PLIB, "Contact block row %" PetscInt_FMT " is not owned", row);
-    if (owned) dnnz[i]++;
-    else onnz[i]++;
+    if (owned)
+      dnnz[i]++;
+    else
+      onnz[i]++;
     if (col > row) {
-      if (owned) dnnzu[i]++;
-      else onnzu[i]++;
+      if (owned)
+        dnnzu[i]++;
+      else
+        onnzu[i]++;
     }
   }
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -997,8 +1005,7 @@ static PetscErrorCode AddContactStiffness(ClothSelfContact sc, const BodyNormals
       for (PetscInt q = 0; q < 3; q++) KS[3 * r + q] = K[3 * r] * S[k][q] + K[3 * r + 1] * S[k][3 + q] + K[3 * r + 2] * S[k][6 + q];
     for (PetscInt j = 0; j < SELF_CONTACT_NP; j++)
       for (PetscInt r = 0; r < 3; r++)
-        for (PetscInt q = 0; q < 3; q++)
-          H[n * (3 * j + r) + 3 * k + q] = h2 * contact->a[j] * contact->a[k] * (S[j][3 * r] * KS[q] + S[j][3 * r + 1] * KS[3 + q] + S[j][3 * r + 2] * KS[6 + q]);
+        for (PetscInt q = 0; q < 3; q++) H[n * (3 * j + r) + 3 * k + q] = h2 * contact->a[j] * contact->a[k] * (S[j][3 * r] * KS[q] + S[j][3 * r + 1] * KS[3 + q] + S[j][3 * r + 2] * KS[6 + q]);
   }
   PetscCall(MatSetValuesBlocked(A, SELF_CONTACT_NP, rows, SELF_CONTACT_NP, rows, H, ADD_VALUES));
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -1008,7 +1015,7 @@ static PetscErrorCode AddContactStiffness(ClothSelfContact sc, const BodyNormals
    blocks set in its first assembly, so every assembly sets them all, whichever contacts are active. */
 static PetscErrorCode AddPatternZeros(ClothSelfContact sc, Mat A)
 {
-  const PetscInt64  N        = sc->cloth->nglobal;
+  const PetscInt64  N       = sc->cloth->nglobal;
   const PetscScalar zero[9] = {0};
 
   PetscFunctionBeginUser;
@@ -1021,8 +1028,8 @@ static PetscErrorCode AddPatternZeros(ClothSelfContact sc, Mat A)
 
 PetscErrorCode ClothSelfContactAddForces_Private(ClothSelfContact sc, Vec position, Vec velocity, Vec force, Vec kv, Mat A, PetscReal h2, PetscBool psd, PetscReal *energy)
 {
-  PetscScalar    *x, *xr, *v = NULL, *vr = NULL, *f, *fr, *k = NULL, *kr = NULL;
-  BodyNormals     bn = {NULL, NULL};
+  PetscScalar *x, *xr, *v = NULL, *vr = NULL, *f, *fr, *k = NULL, *kr = NULL;
+  BodyNormals  bn = {NULL, NULL};
 
   PetscFunctionBeginUser;
   if (!sc->remote_scatter) PetscFunctionReturn(PETSC_SUCCESS); /* no search yet (on every rank alike) */
@@ -1176,7 +1183,7 @@ PetscErrorCode ClothSelfContactFilterVelocity(ClothSelfContact sc, PetscReal h, 
 PetscErrorCode ClothSelfContactFindBruteForce(ClothSelfContact sc, const PetscReal x[], PetscReal radius, PetscInt *n, ClothContact **contacts)
 {
   const PetscInt nparticles = sc->cloth->nglobal;
-  PetscInt       cap = 64;
+  PetscInt       cap        = 64;
 
   PetscFunctionBeginUser;
   *n = 0;
@@ -1200,8 +1207,10 @@ PetscErrorCode ClothSelfContactFindBruteForce(ClothSelfContact sc, const PetscRe
         }
         if (excluded) continue;
         for (PetscInt v = 0; v < SELF_CONTACT_NP; v++) xs[v] = &x[3 * contact.p[v]];
-        if (pass == 0) TestPointTriangle(xs, NULL, radius, &contact, &hit);
-        else TestEdgeEdge(xs, NULL, radius, &contact, &hit);
+        if (pass == 0)
+          TestPointTriangle(xs, NULL, radius, &contact, &hit);
+        else
+          TestEdgeEdge(xs, NULL, radius, &contact, &hit);
         if (!hit) continue;
         if (*n == cap) {
           ClothContact *more;
@@ -1222,7 +1231,7 @@ PetscErrorCode ClothSelfContactFindBruteForce(ClothSelfContact sc, const PetscRe
 
 PetscErrorCode ClothSelfContactCreate(Cloth cloth, ClothSelfContact *sc)
 {
-  ClothSelfContact s;
+  ClothSelfContact          s;
   const SceneSelfCollision *scene = &cloth->scene->self_collision;
 
   PetscFunctionBeginUser;
@@ -1305,7 +1314,7 @@ PetscErrorCode ClothSelfContactUpdate(ClothSelfContact sc, PetscReal h, PetscBoo
   PetscCall(PetscLogEventBegin(ClothLog.self_collision, 0, 0, 0, 0));
   /* at the velocities of the start of the step; the velocity filter searches again at the new ones */
   PetscCall(Search(sc, sc->thickness, sc->cloth->velocity, h));
-  PetscCall(UpdatePattern(sc, pattern_changed));
+  if (pattern_changed) PetscCall(UpdatePattern(sc, pattern_changed));
   sc->searches++;
   sc->contacts_found += sc->ncontacts;
   PetscCall(PetscLogEventEnd(ClothLog.self_collision, 0, 0, 0, 0));
@@ -1338,8 +1347,8 @@ PetscErrorCode ClothSelfContactView(ClothSelfContact sc, PetscViewer viewer)
     PetscCall(PetscViewerASCIIPrintf(viewer, "Self-collision: off\n"));
     PetscFunctionReturn(PETSC_SUCCESS);
   }
-  PetscCall(PetscViewerASCIIPrintf(viewer, "Self-collision: thickness %g m, stiffness %g N/m, particles within %" PetscInt_FMT " ring(s) excluded%s, impulses keep gaps above %g x thickness\n", (double)sc->thickness, (double)sc->stiffness, sc->exclude_ring,
-                                   sc->same_piece ? "" : ", one piece never collides with itself", (double)sc->min_gap));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "Self-collision: thickness %g m, stiffness %g N/m, particles within %" PetscInt_FMT " ring(s) excluded%s, impulses keep gaps above %g x thickness\n", (double)sc->thickness, (double)sc->stiffness,
+                                   sc->exclude_ring, sc->same_piece ? "" : ", one piece never collides with itself", (double)sc->min_gap));
   PetscCall(PetscViewerASCIIPrintf(viewer, "  %" PetscInt_FMT " searches, %.1f contacts per search, %" PetscInt_FMT " impulses, %" PetscInt_FMT " matrix pattern rebuilds, %" PetscInt_FMT " remote particles at the last search\n", sc->searches,
                                    sc->searches ? (double)sum[0] / (double)sc->searches : 0.0, sum[1], sc->rebuilds, sum[2]));
   PetscFunctionReturn(PETSC_SUCCESS);

@@ -61,7 +61,7 @@ PetscErrorCode ClothSelfContactSetExclusion(ClothSelfContact sc, ClothSelfContac
    thickness plus the relative travel of their closest points over the step at the current velocities
    (swept boxes in the cell grid). *pattern_changed (collective) tells that pairs of particles appeared
    that the implicit matrix has no room for: the caller must then create it again with
-   ClothCreateMatrix. Collective. */
+   ClothCreateMatrix; pattern_changed NULL: no matrix to keep (explicit integrators). Collective. */
 PetscErrorCode ClothSelfContactUpdate(ClothSelfContact sc, PetscReal h, PetscBool *pattern_changed);
 /* The same search within radius (no travel) and without touching the matrix pattern; for tests. */
 PetscErrorCode ClothSelfContactFind(ClothSelfContact sc, PetscReal radius);

@@ -8,7 +8,7 @@
 #   slurm_cluster_stop                     # scancel everything, wait for an empty queue, stop the daemons
 # slurm_cluster_start installs slurm-wlm through scripts/install_deps.sh (if present, as root) when it is missing.
 
-SLURM_CLUSTER_DIR=""
+export SLURM_CLUSTER_DIR=""
 SLURM_CTLD_PID=""
 SLURM_D_PID=""
 
@@ -25,7 +25,7 @@ slurm_cluster_start() {
       return 1
     fi
   fi
-  SLURM_CLUSTER_DIR=$dir
+  SLURM_CLUSTER_DIR=$dir   # for callers: where the configuration, state and logs are
   mkdir -p "$dir/state" "$dir/spool"
   host=$(hostname -s)
   mem=$(awk '/MemAvailable/ { printf "%d", $2 / 1024 * 0.9 }' /proc/meminfo)
@@ -88,7 +88,7 @@ slurm_cluster_stop() {
     kill "$pid" 2> /dev/null || true
   done
   for pid in $SLURM_D_PID $SLURM_CTLD_PID; do
-    for i in $(seq 1 50); do kill -0 "$pid" 2> /dev/null || break; sleep 0.1; done
+    for _ in $(seq 1 50); do kill -0 "$pid" 2> /dev/null || break; sleep 0.1; done
     kill -9 "$pid" 2> /dev/null || true
   done
   SLURM_CTLD_PID="" SLURM_D_PID=""

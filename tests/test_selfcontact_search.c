@@ -4,7 +4,9 @@
    The scene's pieces are folded accordion-wise into -panels panels stacked -gap x thickness apart
    (the pieces one above the other), with a deterministic jitter of -jitter x thickness per
    coordinate, so that layers, fold lines and the two pieces all come within the thickness. Checks
-   at least -min_contacts contacts of each kind. Prints the counts (independent of the rank count). */
+   at least -min_contacts contacts of each kind. Prints the counts (independent of the rank count).
+   With -check_jacobian, also the repulsion's stiffness in the implicit system against central
+   differences of the forces (-jacobian_eps, -jacobian_rtol). */
 #include <petscvec.h>
 #include "scene.h"
 #include "cloth.h"
@@ -78,7 +80,7 @@ static int CompareContacts(const void *pa, const void *pb)
 /* Every rank's contacts on every rank (sorted). */
 static PetscErrorCode GatherContacts(MPI_Comm comm, PetscInt n, const ClothContact local[], PetscInt *total, ClothContact **all)
 {
-  PetscMPIInt  size, nbytes = (PetscMPIInt)(n * sizeof(ClothContact)), *counts, *displs;
+  PetscMPIInt size, nbytes = (PetscMPIInt)(n * sizeof(ClothContact)), *counts, *displs;
 
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_size(comm, &size));
@@ -102,6 +104,87 @@ static PetscErrorCode CountKinds(PetscInt n, const ClothContact c[], PetscInt co
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* -(F(x + eps d) - F(x - eps d)) / (2 eps) with the cloth's current contacts held fixed. */
+static PetscErrorCode ForceDerivative(Cloth cloth, Vec d, PetscReal eps, Vec df)
+{
+  Vec x, v, fm;
+
+  PetscFunctionBeginUser;
+  PetscCall(ClothGetState(cloth, &x, &v));
+  PetscCall(VecDuplicate(x, &fm));
+  PetscCall(VecAXPY(x, eps, d));
+  PetscCall(ClothComputeForces(cloth, x, v, df));
+  PetscCall(VecAXPY(x, -2 * eps, d));
+  PetscCall(ClothComputeForces(cloth, x, v, fm));
+  PetscCall(VecAXPY(x, eps, d));
+  PetscCall(VecAXPY(df, -1.0, fm));
+  PetscCall(VecScale(df, -1.0 / (2 * eps)));
+  PetscCall(VecDestroy(&fm));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The implicit system with the repulsion against finite differences: with h = 1, no damping and the
+   exact stiffness, A = M + K, so (A - M) d must equal -dF/dx d along a random direction d, with the
+   contacts and their weights of the search held fixed (the stiffness is exact for that energy). Also
+   checks that the contacts contribute (against the same derivative with self-contact detached). */
+static PetscErrorCode CheckJacobian(Cloth cloth, ClothSelfContact sc, PetscReal eps, PetscReal rtol)
+{
+  Mat                A;
+  Vec                x, v, d, Ad, df, df0, rhs;
+  PetscRandom        rnd;
+  const PetscReal   *mass;
+  PetscScalar       *a;
+  const PetscScalar *dd;
+  PetscInt           nlocal;
+  PetscReal          norm, err, share;
+  PetscBool          changed;
+
+  PetscFunctionBeginUser;
+  PetscCall(ClothSetExactStiffness(cloth, PETSC_TRUE));
+  PetscCall(ClothSetSelfContact(cloth, sc));
+  PetscCall(ClothSelfContactUpdate(sc, 1.0, &changed)); /* zero velocity: contacts within the thickness */
+  PetscCall(ClothCreateMatrix(cloth, &A));
+  PetscCall(ClothGetState(cloth, &x, &v));
+  PetscCall(VecDuplicate(x, &d));
+  PetscCall(VecDuplicate(x, &Ad));
+  PetscCall(VecDuplicate(x, &df));
+  PetscCall(VecDuplicate(x, &df0));
+  PetscCall(VecDuplicate(x, &rhs));
+  PetscCall(ClothAssembleImplicitSystem(cloth, 1.0, x, v, A, rhs));
+  PetscCall(PetscRandomCreate(PETSC_COMM_WORLD, &rnd));
+  PetscCall(PetscRandomSetInterval(rnd, -1.0, 1.0));
+  PetscCall(VecSetRandom(d, rnd));
+  PetscCall(MatMult(A, d, Ad));
+  PetscCall(ClothGetMasses(cloth, &mass, NULL));
+  PetscCall(ClothGetSizes(cloth, &nlocal, NULL));
+  PetscCall(VecGetArray(Ad, &a));
+  PetscCall(VecGetArrayRead(d, &dd));
+  for (PetscInt i = 0; i < nlocal; i++)
+    for (PetscInt c = 0; c < 3; c++) a[3 * i + c] -= mass[i] * dd[3 * i + c];
+  PetscCall(VecRestoreArrayRead(d, &dd));
+  PetscCall(VecRestoreArray(Ad, &a));
+  PetscCall(ForceDerivative(cloth, d, eps, df));
+  PetscCall(ClothSetSelfContact(cloth, NULL));
+  PetscCall(ForceDerivative(cloth, d, eps, df0));
+  PetscCall(ClothSetSelfContact(cloth, sc));
+  PetscCall(VecNorm(df, NORM_INFINITY, &norm));
+  PetscCall(VecAXPY(df0, -1.0, df));
+  PetscCall(VecNorm(df0, NORM_INFINITY, &share));
+  PetscCall(VecAXPY(Ad, -1.0, df));
+  PetscCall(VecNorm(Ad, NORM_INFINITY, &err));
+  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "stiffness along a random direction: |K d| %.3e, of it from contacts %.3e, error against central differences %.3e (relative %.1e)\n", (double)norm, (double)share, (double)err, (double)(err / norm)));
+  PetscCheck(share > 1e-3 * norm, PETSC_COMM_WORLD, PETSC_ERR_PLIB, "the contacts hardly contribute (%g of %g): the check would test nothing", (double)share, (double)norm);
+  PetscCheck(err <= rtol * norm, PETSC_COMM_WORLD, PETSC_ERR_PLIB, "the assembled stiffness differs from finite differences by %g relative (tolerance %g)", (double)(err / norm), (double)rtol);
+  PetscCall(PetscRandomDestroy(&rnd));
+  PetscCall(VecDestroy(&d));
+  PetscCall(VecDestroy(&Ad));
+  PetscCall(VecDestroy(&df));
+  PetscCall(VecDestroy(&df0));
+  PetscCall(VecDestroy(&rhs));
+  PetscCall(MatDestroy(&A));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 int main(int argc, char **argv)
 {
   char                path[PETSC_MAX_PATH_LEN];
@@ -114,9 +197,13 @@ int main(int argc, char **argv)
   PetscInt            n, nall = 0, nbrute, kinds[2], min_contacts = 100;
   const ClothContact *found;
   ClothContact       *all, *brute;
-  PetscBool           flg;
+  PetscBool           flg, check_jacobian = PETSC_FALSE;
+  PetscReal           eps = 1e-7, rtol = 1e-5;
 
   PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
+  PetscCall(PetscOptionsGetBool(NULL, NULL, "-check_jacobian", &check_jacobian, NULL));
+  PetscCall(PetscOptionsGetReal(NULL, NULL, "-jacobian_eps", &eps, NULL));
+  PetscCall(PetscOptionsGetReal(NULL, NULL, "-jacobian_rtol", &rtol, NULL));
   PetscCall(PetscOptionsGetString(NULL, NULL, "-scene", path, sizeof(path), &flg));
   PetscCheck(flg, PETSC_COMM_WORLD, PETSC_ERR_USER_INPUT, "give -scene");
   PetscCall(PetscOptionsGetInt(NULL, NULL, "-panels", &cr.panels, NULL));
@@ -149,11 +236,13 @@ int main(int argc, char **argv)
   PetscCall(PetscPrintf(PETSC_COMM_WORLD, "cell grid:   %" PetscInt_FMT " point-triangle, %" PetscInt_FMT " edge-edge contacts\n", kinds[0], kinds[1]));
   PetscCheck(nall == nbrute, PETSC_COMM_WORLD, PETSC_ERR_PLIB, "the cell-grid search found %" PetscInt_FMT " contacts, brute force %" PetscInt_FMT, nall, nbrute);
   for (PetscInt k = 0; k < nall; k++) {
-    PetscCheck(CompareContacts(&all[k], &brute[k]) == 0, PETSC_COMM_WORLD, PETSC_ERR_PLIB, "contact %" PetscInt_FMT " differs: grid (%d: %" PetscInt_FMT " %" PetscInt_FMT " %" PetscInt_FMT " %" PetscInt_FMT "), brute force (%d: %" PetscInt_FMT " %" PetscInt_FMT " %" PetscInt_FMT " %" PetscInt_FMT ")", k,
-               (int)all[k].kind, all[k].p[0], all[k].p[1], all[k].p[2], all[k].p[3], (int)brute[k].kind, brute[k].p[0], brute[k].p[1], brute[k].p[2], brute[k].p[3]);
+    PetscCheck(CompareContacts(&all[k], &brute[k]) == 0, PETSC_COMM_WORLD, PETSC_ERR_PLIB,
+               "contact %" PetscInt_FMT " differs: grid (%d: %" PetscInt_FMT " %" PetscInt_FMT " %" PetscInt_FMT " %" PetscInt_FMT "), brute force (%d: %" PetscInt_FMT " %" PetscInt_FMT " %" PetscInt_FMT " %" PetscInt_FMT ")", k, (int)all[k].kind,
+               all[k].p[0], all[k].p[1], all[k].p[2], all[k].p[3], (int)brute[k].kind, brute[k].p[0], brute[k].p[1], brute[k].p[2], brute[k].p[3]);
     PetscCheck(PetscAbsReal(all[k].distance - brute[k].distance) <= 1e-14, PETSC_COMM_WORLD, PETSC_ERR_PLIB, "contact %" PetscInt_FMT ": distance %.17g (grid) and %.17g (brute force)", k, (double)all[k].distance, (double)brute[k].distance);
   }
   PetscCall(PetscPrintf(PETSC_COMM_WORLD, "identical contact sets\n"));
+  if (check_jacobian) PetscCall(CheckJacobian(cloth, sc, eps, rtol));
   PetscCall(PetscFree(all));
   PetscCall(PetscFree(brute));
   PetscCall(PetscFree(x));
