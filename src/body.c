@@ -1,5 +1,6 @@
 /* Body (see body.h). */
 #include "body.h"
+#include "vec3.h"
 
 struct _n_Body {
   MPI_Comm      comm;
@@ -12,20 +13,6 @@ struct _n_Body {
   PetscBool     flipped; /* the file's triangles were oriented inwards */
 };
 
-static inline void Sub3(const PetscReal a[3], const PetscReal b[3], PetscReal d[3])
-{
-  for (PetscInt c = 0; c < 3; c++) d[c] = a[c] - b[c];
-}
-static inline PetscReal Dot3(const PetscReal a[3], const PetscReal b[3])
-{
-  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-static inline void Cross3(const PetscReal a[3], const PetscReal b[3], PetscReal c[3])
-{
-  c[0] = a[1] * b[2] - a[2] * b[1];
-  c[1] = a[2] * b[0] - a[0] * b[2];
-  c[2] = a[0] * b[1] - a[1] * b[0];
-}
 
 /* x <- R (scale x) + t with R = Rz Ry Rx (angles in degrees: about x first, then y, then z). */
 static PetscErrorCode PlaceVertices(const SceneBody *d, MeshTriangles *mesh)

@@ -1,6 +1,7 @@
 /* ClothCollision (see collision.h). */
 #include "collision.h"
 #include "log.h"
+#include "vec3.h"
 
 const char *const ClothCollisionSearches[] = {"grid", "brute_force", "ClothCollisionSearch", "CLOTH_COLLISION_SEARCH_", NULL};
 
@@ -53,16 +54,6 @@ struct _n_ClothCollision {
   ClothCollisionStats  stats, local;
 };
 
-static inline PetscReal Dot3(const PetscReal a[3], const PetscReal b[3])
-{
-  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-static inline void Cross3(const PetscReal a[3], const PetscReal b[3], PetscReal c[3])
-{
-  c[0] = a[1] * b[2] - a[2] * b[1];
-  c[1] = a[2] * b[0] - a[0] * b[2];
-  c[2] = a[0] * b[1] - a[1] * b[0];
-}
 static inline PetscBool BoxesOverlap(const PetscReal alo[3], const PetscReal ahi[3], const PetscReal blo[3], const PetscReal bhi[3])
 {
   for (PetscInt k = 0; k < 3; k++)

@@ -1,11 +1,8 @@
 /* Element kernels of the fabric model (see forces.h). */
 #include "forces.h"
 #include <petscblaslapack.h>
+#include "vec3.h"
 
-static inline PetscReal Dot3(const PetscReal a[3], const PetscReal b[3])
-{
-  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
 
 /* Link potential phi(l) and its first two derivatives. */
 static void LinkPotential(const ClothLink *link, PetscReal l, PetscReal *phi, PetscReal *dphi, PetscReal *d2phi)

@@ -9,6 +9,7 @@
 #include "selfcontact.h"
 #include "cloth_impl.h"
 #include "log.h"
+#include "vec3.h"
 
 #define SELF_CONTACT_NP 4 /* particles of a contact element */
 
@@ -60,10 +61,6 @@ struct _n_ClothSelfContact {
   PetscInt    searches, contacts_found, impulses; /* statistics for the view (summed over ranks where relevant) */
 };
 
-static inline PetscReal Dot3(const PetscReal a[3], const PetscReal b[3])
-{
-  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
 
 static inline PetscReal Clamp01(PetscReal t)
 {

@@ -13,7 +13,7 @@ SLURM_CTLD_PID=""
 SLURM_D_PID=""
 
 slurm_cluster_start() {
-  local dir=$1 host mem i state root
+  local dir=$1 host mem state root
   root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
   if ! command -v slurmctld > /dev/null || ! command -v slurmd > /dev/null || ! command -v sbatch > /dev/null; then
     if [ -f "$root/scripts/install_deps.sh" ] && [ "$(id -u)" = 0 ]; then
@@ -63,7 +63,7 @@ CONF
   SLURM_CTLD_PID=$!
   slurmd -D -f "$SLURM_CONF" > "$dir/slurmd.out" 2>&1 &
   SLURM_D_PID=$!
-  for i in $(seq 1 100); do
+  for _ in $(seq 1 100); do
     state=$(sinfo -h -o %T 2> /dev/null | head -n 1)
     [ "$state" = idle ] && return 0
     if ! kill -0 "$SLURM_CTLD_PID" 2> /dev/null || ! kill -0 "$SLURM_D_PID" 2> /dev/null; then break; fi
@@ -76,10 +76,9 @@ CONF
 }
 
 slurm_cluster_stop() {
-  local i
   if [ -n "$SLURM_CTLD_PID" ] && kill -0 "$SLURM_CTLD_PID" 2> /dev/null; then
     scancel --full --user="$(id -un)" 2> /dev/null || true
-    for i in $(seq 1 100); do
+    for _ in $(seq 1 100); do
       [ -z "$(squeue -h -o %i 2> /dev/null)" ] && break
       sleep 0.2
     done
