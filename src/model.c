@@ -159,6 +159,31 @@ static PetscErrorCode AddCellInteractions(ClothModel model, const PieceContext *
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* Rolls a flat placement onto the cylinder around the piece's wrap axis that touches its plane: a point
+   at distance s from the touching line (along the plane, across the axis) goes to angle s / r around the
+   axis, its position along the axis kept, so lengths along and across the axis are preserved. */
+static void WrapOntoCylinder(const ScenePiece *piece, PetscReal x[3])
+{
+  const PetscReal *a = piece->wrap_axis, *c = piece->wrap_point;
+  PetscReal        normal[3], t[3], w[3], d = 0, r, along = 0, s = 0;
+
+  normal[0] = piece->u_axis[1] * piece->v_axis[2] - piece->u_axis[2] * piece->v_axis[1];
+  normal[1] = piece->u_axis[2] * piece->v_axis[0] - piece->u_axis[0] * piece->v_axis[2];
+  normal[2] = piece->u_axis[0] * piece->v_axis[1] - piece->u_axis[1] * piece->v_axis[0];
+  for (PetscInt k = 0; k < 3; k++) d += normal[k] * (piece->origin[k] - c[k]);
+  r = PetscAbsReal(d);
+  for (PetscInt k = 0; k < 3; k++) normal[k] *= (d > 0 ? 1.0 : -1.0); /* from the axis towards the plane */
+  t[0] = a[1] * normal[2] - a[2] * normal[1];
+  t[1] = a[2] * normal[0] - a[0] * normal[2];
+  t[2] = a[0] * normal[1] - a[1] * normal[0];
+  for (PetscInt k = 0; k < 3; k++) w[k] = x[k] - c[k];
+  for (PetscInt k = 0; k < 3; k++) {
+    along += w[k] * a[k];
+    s += w[k] * t[k];
+  }
+  for (PetscInt k = 0; k < 3; k++) x[k] = c[k] + along * a[k] + r * (PetscCosReal(s / r) * normal[k] + PetscSinReal(s / r) * t[k]);
+}
+
 /* Particle positions (flat pattern placed in 3D), masses and pins of one piece. */
 static PetscErrorCode AddPieceParticles(ClothModel model, const PieceContext *pc)
 {
@@ -170,6 +195,7 @@ static PetscErrorCode AddPieceParticles(ClothModel model, const PieceContext *pc
   for (PetscInt p = 0; p < n; p++) {
     PetscReal *x = &model->position[3 * (pc->offset + p)];
     for (PetscInt c = 0; c < 3; c++) x[c] = piece->origin[c] + pc->uv[2 * p] * piece->u_axis[c] + pc->uv[2 * p + 1] * piece->v_axis[c];
+    if (piece->wrapped) WrapOntoCylinder(piece, x);
     model->mass[pc->offset + p] = 0;
   }
   for (PetscInt j = 0; j + 1 < piece->nv; j++)

@@ -5,6 +5,7 @@
 #include "checkpoint.h"
 #include "selfcontact.h"
 #include "sewing.h"
+#include "quality.h"
 #include "log.h"
 
 struct _n_ClothRun {
@@ -438,7 +439,19 @@ PetscErrorCode ClothRunSolve(ClothRun run)
   PetscCheck(ok, run->comm, PETSC_ERR_NOT_CONVERGED, "Step %" PetscInt_FMT " failed (Krylov solver diverged or the state became non-finite) even with the step halved down to %g s; the last good state (step %" PetscInt_FMT ") is in %s", run->step + 1, (double)stats.smallest_dt, run->step, run->last_checkpoint);
   if (stop) PetscCall(PetscPrintf(run->comm, "Stopped by %s at step %" PetscInt_FMT " of %" PetscInt_FMT " (t = %g s) after finishing the step; the state is in %s: continue with -restart %s\n", termination_requested == SIGUSR1 ? "SIGUSR1" : "SIGTERM", run->step, run->steps, (double)run->time,
                              run->last_checkpoint, run->last_checkpoint));
+  if (run->sewing) { /* a garment: measure how well it is assembled */
+    char path[CLOTH_PATH_LEN];
+    PetscCall(PetscSNPrintf(path, sizeof(path), "%s/quality.json", run->output_dir));
+    PetscCall(ClothRunWriteQuality(run, path, WallTime() - start));
+  }
   PetscCall(PetscPrintf(run->comm, "Done: %" PetscInt_FMT " steps (%" PetscInt_FMT " sub-steps), %" PetscInt_FMT " Krylov iterations, %.2f s wall. Results: %s/%s.xdmf (open in ParaView), checkpoint %s\n", run->step - first_step, run->substeps_total, run->krylov_total, WallTime() - start, run->output_dir, run->scene->name, run->last_checkpoint));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothRunGetSewing(ClothRun run, ClothSewing *sewing)
+{
+  PetscFunctionBeginUser;
+  *sewing = run->sewing;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

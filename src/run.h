@@ -3,6 +3,7 @@
 #pragma once
 #include "cloth.h"
 #include "integrator.h"
+#include "sewing.h"
 
 typedef struct _n_ClothRun *ClothRun;
 
@@ -16,5 +17,7 @@ PetscErrorCode ClothRunSolve(ClothRun run);
 PetscErrorCode ClothRunGetCloth(ClothRun run, Cloth *cloth);
 /* The collision handler (borrowed; NULL when the scene has no bodies). */
 PetscErrorCode ClothRunGetCollision(ClothRun run, ClothCollision *collision);
+/* The sewing phases of a scene with seams (NULL without seams). */
+PetscErrorCode ClothRunGetSewing(ClothRun run, ClothSewing *sewing);
 PetscErrorCode ClothRunGetStep(ClothRun run, PetscInt *step, PetscReal *time);
 PetscErrorCode ClothRunDestroy(ClothRun *run);

@@ -72,7 +72,8 @@ static const char *const SceneIntegrators[] = {"explicit", "symplectic", "implic
 /* Allowed keys per block (NULL-terminated). */
 static const char *const SceneTopKeys[]    = {"name", "gravity", "fabrics", "pieces", "run", "bodies", "self_collision", "seams", "sewing", NULL};
 static const char *const SceneFabricKeys[] = {"density", "stretch", "stretch_warp", "stretch_weft", "shear", "shear_model", "bend", "bend_warp", "bend_weft", "bend_model", "damping", "repulsion", "repulsion_stiffness", "preset", "kes", "stretch_knee", "stretch_knee_warp", "stretch_knee_weft", "stretch_stiff", "stretch_stiff_warp", "stretch_stiff_weft", NULL};
-static const char *const ScenePieceKeys[]  = {"name", "fabric", "grid", "size", "boundaries", "origin", "u_axis", "v_axis", "mass", "pins", "pin_disc", "pin_box", NULL};
+static const char *const ScenePieceKeys[]  = {"name", "fabric", "grid", "size", "boundaries", "origin", "u_axis", "v_axis", "mass", "pins", "pin_disc", "pin_box", "wrap", NULL};
+static const char *const SceneWrapKeys[]     = {"axis_point", "axis", NULL};
 static const char *const SceneBoundaryKeys[] = {"bottom", "right", "top", "left", "nodes", NULL}; /* bottom, right, top, left: the order of ScenePiece.boundary_* */
 static const char *const SceneKESKeys[]      = {"W", "B_warp", "B_weft", "G", "EMT_warp", "EMT_weft", "LT_warp", "LT_weft", NULL};
 static const char *const SceneArcKeys[]      = {"center", "radius", "from", "to", "segments", NULL};
@@ -882,6 +883,34 @@ static PetscErrorCode ReadGridAndSize(SceneReader *r, yaml_node_t *map, ScenePie
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* wrap: {axis_point: [x, y, z], axis: [ax, ay, az]}: the piece, placed flat by origin/u_axis/v_axis as a
+   tangent plane, is rolled onto the cylinder around that axis that touches it (model.c). The axis must be
+   parallel to the piece's plane and must not pass through it. */
+static PetscErrorCode ReadWrap(SceneReader *r, yaml_node_t *map, ScenePiece *piece)
+{
+  yaml_node_t *wrap;
+  PetscReal    normal[3], along;
+
+  PetscFunctionBeginUser;
+  PetscCall(SceneGetValue(r, map, "wrap", &wrap));
+  if (!wrap) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(SceneExpectMap(r, wrap, "wrap", SceneWrapKeys, NULL));
+  PetscCall(ReadRealList(r, wrap, "axis_point", PETSC_TRUE, 3, SCENE_REAL_ANY, "m", piece->wrap_point));
+  piece->wrap_axis[0] = piece->wrap_axis[2] = 0;
+  piece->wrap_axis[1] = 1;
+  PetscCall(ReadDirection(r, wrap, "axis", piece->wrap_axis));
+  normal[0] = piece->u_axis[1] * piece->v_axis[2] - piece->u_axis[2] * piece->v_axis[1];
+  normal[1] = piece->u_axis[2] * piece->v_axis[0] - piece->u_axis[0] * piece->v_axis[2];
+  normal[2] = piece->u_axis[0] * piece->v_axis[1] - piece->u_axis[1] * piece->v_axis[0];
+  along     = normal[0] * piece->wrap_axis[0] + normal[1] * piece->wrap_axis[1] + normal[2] * piece->wrap_axis[2];
+  if (PetscAbsReal(along) > SCENE_ORTHOGONALITY_TOL) PetscCall(SceneFailValue(r, wrap, "wrap", "an axis parallel to the piece's plane (u_axis, v_axis)"));
+  along = 0;
+  for (PetscInt c = 0; c < 3; c++) along += normal[c] * (piece->origin[c] - piece->wrap_point[c]);
+  if (PetscAbsReal(along) < 1e-6) PetscCall(SceneFailValue(r, wrap, "wrap", "an axis_point off the piece's plane (the cylinder's radius is its distance from the plane)"));
+  piece->wrapped = PETSC_TRUE;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 static PetscErrorCode SceneReadPiece(SceneReader *r, yaml_node_t *map, Scene scene, PetscInt index)
 {
   ScenePiece  *piece = &scene->pieces[index];
@@ -905,6 +934,7 @@ static PetscErrorCode SceneReadPiece(SceneReader *r, yaml_node_t *map, Scene sce
   piece->u_axis[0] = 1;
   piece->v_axis[1] = 1;
   PetscCall(ReadAxes(r, map, piece));
+  PetscCall(ReadWrap(r, map, piece));
   PetscCall(ReadChoice(r, map, "mass", PETSC_FALSE, ClothMassDistributions, &mass));
   piece->mass_distribution = (ClothMassDistribution)mass;
   PetscCall(ReadPins(r, map, piece));
