@@ -5,14 +5,15 @@
 #   bash jobs/bench_implicit.sh
 #
 # Environment: CLOTHSIM (build/clothsim), GRIDS ("65 129 257"), RANKS_LIST ("1 2"), T_FINAL (1; shorter
-# runs give per-step rates of the early, calmer part of the swing), EXTRA (more clothsim options).
+# runs cover only the start of the fall, where the solver needs fewer iterations per step), EXTRA (more clothsim options).
 # Per run it records, from clothsim's own output:
 #   particle-steps/s     particles x steps / wall time of the time loop ("Done: ... s wall")
 #   KSP its/step         Krylov iterations of the run / steps
 #   memory/particle      PETSc -memory_view "Maximum (over computational time) process memory", summed over
 #                        ranks (resident set size, so it includes MPI's and the libraries' own memory)
 #   jacobian/solve/forces s   -log_view max-over-ranks time of ClothJacobian (assembly of the matrix),
-#                        ClothSolve (the KSP solve) and ClothForces, summed over the log stages
+#                        ClothSolve (the KSP solve) and ClothForces, summed over the log stages (ClothForces
+#                        stays 0 here: the implicit step computes forces and matrix together in ClothJacobian)
 #   cpu_s                user + system CPU seconds of all ranks (/usr/bin/time, when installed): on a shared,
 #                        overloaded machine wall times stretch, CPU times much less
 #   load                 the 1-minute load average when the run started (above the core count: wall times are inflated)

@@ -294,6 +294,7 @@ PetscErrorCode ClothRunSetUp(ClothRun run)
     PetscCall(ClothSewingCreate(run->cloth, run->scene, &run->sewing));
     PetscCall(ClothSewingSetFromOptions(run->sewing));
     PetscCall(ClothSewingSetUp(run->sewing));
+    if (run->self_contact) PetscCall(ClothSelfContactSetExclusion(run->self_contact, ClothSewingExcludeContact, run->sewing));
     PetscCall(VecDuplicate(run->natural_strain, &run->natural_sewn)); /* one value per particle */
   }
   PetscCall(PetscObjectSetName((PetscObject)run->natural_position, "position"));

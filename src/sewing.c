@@ -2,6 +2,8 @@
 #include "sewing.h"
 #include "seam.h"
 
+#define SEAM_BAND 2 /* grid rows around a seam where cloth-cloth contact is not applied */
+
 const char *const ClothSewingPhases[] = {"pull", "settle", "ClothSewingPhase", "CLOTH_SEWING_", NULL};
 
 struct _n_ClothSewing {
@@ -11,8 +13,40 @@ struct _n_ClothSewing {
   PetscInt         nlinks; /* seam links of the whole model */
   PetscInt        *sewn;   /* per model seam link: 1 once sewn; the same on every rank */
   PetscInt        *closed; /* work: links this rank found closed in the last step */
+  uint64_t        *near;   /* per particle (natural): bit s set within SEAM_BAND rows of seam s */
   PetscReal        max_time;
 };
+
+/* Marks the particles within SEAM_BAND grid rows (of their own piece) of every particle of every seam link. */
+static PetscErrorCode ClothSewingMarkSeamBands(ClothSewing s, Scene scene, ClothModel model)
+{
+  PetscFunctionBeginUser;
+  PetscCheck(scene->nseams <= 64, PETSC_COMM_WORLD, PETSC_ERR_SUP, "At most 64 seams are supported, the scene has %" PetscInt_FMT, scene->nseams);
+  PetscCall(PetscCalloc1(model->nparticles, &s->near));
+  for (PetscInt l = 0; l < model->nseamlinks; l++)
+    for (PetscInt k = 0; k < model->seamlinks[l].np; k++) {
+      const PetscInt g = model->seamlinks[l].p[k];
+      PetscInt       piece = 0;
+      while (model->piece_offset[piece + 1] <= g) piece++;
+      {
+        const PetscInt nu = scene->pieces[piece].nu, nv = scene->pieces[piece].nv, off = model->piece_offset[piece];
+        const PetscInt i = (g - off) % nu, j = (g - off) / nu;
+        for (PetscInt dj = -SEAM_BAND; dj <= SEAM_BAND; dj++)
+          for (PetscInt di = -SEAM_BAND; di <= SEAM_BAND; di++)
+            if (i + di >= 0 && i + di < nu && j + dj >= 0 && j + dj < nv) s->near[off + (j + dj) * nu + i + di] |= (uint64_t)1 << model->seamlinks[l].seam;
+      }
+    }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothSewingExcludeContact(void *ctx, PetscInt a, PetscInt b, PetscBool *excluded)
+{
+  ClothSewing s = (ClothSewing)ctx;
+
+  PetscFunctionBeginUser;
+  *excluded = (s->near[a] & s->near[b]) ? PETSC_TRUE : PETSC_FALSE;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
 
 PetscErrorCode ClothSewingCreate(Cloth cloth, Scene scene, ClothSewing *sewing)
 {
@@ -28,6 +62,7 @@ PetscErrorCode ClothSewingCreate(Cloth cloth, Scene scene, ClothSewing *sewing)
   s->nlinks   = model->nseamlinks;
   s->max_time = scene->sewing.max_time;
   PetscCall(PetscCalloc2(s->nlinks, &s->sewn, s->nlinks, &s->closed));
+  PetscCall(ClothSewingMarkSeamBands(s, scene, model));
   *sewing = s;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -193,6 +228,7 @@ PetscErrorCode ClothSewingDestroy(ClothSewing *sewing)
   PetscFunctionBeginUser;
   if (!*sewing) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(PetscFree2((*sewing)->sewn, (*sewing)->closed));
+  PetscCall(PetscFree((*sewing)->near));
   PetscCall(PetscFree(*sewing));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -30,4 +30,8 @@ PetscErrorCode ClothSewingGetStatus(ClothSewing sewing, ClothSewingPhase *phase,
 PetscErrorCode ClothSewingGetStateVec(ClothSewing sewing, Vec sewn);
 /* Restores the sewn state written by ClothSewingGetStateVec at simulated time t. Collective. */
 PetscErrorCode ClothSewingSetStateVec(ClothSewing sewing, Vec sewn, PetscReal time);
+/* Cloth-cloth contact exclusion (selfcontact.h's ClothSelfContactExcludeFn, ctx the ClothSewing):
+   particles a and b (natural numbers) within two grid rows of the same seam never repel each other,
+   or the contact thickness would hold every seam open by that much. */
+PetscErrorCode ClothSewingExcludeContact(void *ctx, PetscInt a, PetscInt b, PetscBool *excluded);
 PetscErrorCode ClothSewingDestroy(ClothSewing *sewing);
