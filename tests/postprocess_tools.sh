@@ -63,8 +63,15 @@ PY
     [ -x "$pv" ] && command -v xvfb-run > /dev/null || fail "pvpython or xvfb-run missing: install paraview python3-paraview xvfb xauth (scripts/install_deps.sh)"
     "$pv" "$root/postprocess/render.py" --help | grep -q -- "--view" || fail "render.py --help"
     for view in front side; do
-      xvfb-run -a "$pv" "$root/postprocess/render.py" "$work/run/hanging_sheet.xdmf" --frame -1 --view "$view" \
-        --size 320x240 --out "$work/render_$view.png" > "$work/render_$view.log" 2>&1 || { cat "$work/render_$view.log"; fail "render.py --view $view"; }
+      # xvfb-run -a can lose a race for a display number to another X server starting at the same
+      # moment ("bad X server connection"): try again, at most three times.
+      for try in 1 2 3; do
+        xvfb-run -a "$pv" "$root/postprocess/render.py" "$work/run/hanging_sheet.xdmf" --frame -1 --view "$view" \
+          --size 320x240 --out "$work/render_$view.png" > "$work/render_$view.log" 2>&1 && break
+        grep -q "bad X server connection" "$work/render_$view.log" || break
+        sleep 1
+      done
+      grep -q "render.py: " "$work/render_$view.log" || { cat "$work/render_$view.log"; fail "render.py --view $view"; }
       grep -q "t = 0.1 s (frame 4 of 5), 81 points, 64 cells" "$work/render_$view.log" || { cat "$work/render_$view.log"; fail "render.py drew the wrong frame or mesh"; }
       [ "$(png_size "$work/render_$view.png")" = "320 240" ] || fail "render_$view.png is $(png_size "$work/render_$view.png"), expected 320 240"
     done
