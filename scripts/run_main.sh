@@ -5,9 +5,11 @@
 #   bash scripts/run_main.sh         (BUILD_DIR=... builds and runs from another build directory)
 set -euo pipefail
 
-# The main job: the hanging-sheet benchmark (input/hanging_sheet.yaml, 65 x 65, 1 s) on 2 ranks.
-# Switch the scene (and options) here; results go to output/NAME (NAME from the scene's "name:") or -output_dir.
-MAIN_JOB=(mpiexec -n 2 build/clothsim -scene input/hanging_sheet.yaml)
+# The main job: the dress assembled on the mannequin (input/dress.yaml) on 2 ranks, about 80 s on two
+# idle cores. Switch the scene (and options) here; results go to output/NAME (NAME from the scene's
+# "name:") or -output_dir. For a garment (a scene with seams) the run writes quality.json, and this
+# script completes it and renders front, side and back views beside the XDMF.
+MAIN_JOB=(mpiexec -n 2 build/clothsim -scene input/dress.yaml)
 
 cd "$(dirname "$0")/.."
 bash scripts/install_deps.sh
@@ -33,11 +35,21 @@ output_dir=${output_dir:-output/$name}
 echo "run_main: ${job[*]}"
 "${job[@]}"
 
+if [ -f "$output_dir/quality.json" ]; then
+  /usr/bin/python3 postprocess/garment_quality.py "$output_dir" --name "$name" || true
+  for view in front side back; do
+    # Rendering needs an X server: a virtual one (TOOLCHAIN.md).
+    xvfb-run -a /usr/bin/pvpython postprocess/render.py "$output_dir/$name.xdmf" --frame -1 --view "$view" \
+      --size 800x1100 --out "$output_dir/${name}_$view.png" || echo "run_main: the $view render failed (is xvfb installed?)"
+  done
+fi
+
 cat <<MSG
 
 Results in $output_dir:
   $name.xdmf + $name.h5        time series (positions, velocities, quads) for ParaView
   checkpoint_NNNNNN.h5         the final state (continue with -restart FILE)
+  quality.json, ${name}_front.png, _side.png, _back.png   for a garment: its measured quality and renders
 Open in ParaView:    paraview $output_dir/$name.xdmf     (reader: "Xdmf3 Reader S" or "XDMF Reader")
 Without a display:   xvfb-run -a pvpython -c "from paraview.simple import *; r = Xdmf3ReaderS(FileName='$output_dir/$name.xdmf'); r.UpdatePipeline(); print(r.TimestepValues)"
 Inspect the data:    h5ls -r $output_dir/$name.h5
