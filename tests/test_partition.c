@@ -13,6 +13,7 @@
 #include <petscvec.h>
 #include "scene.h"
 #include "cloth.h"
+#include "test_support.h"
 
 /* A smooth, rank-independent perturbation of particle k's component c (natural order). */
 static PetscReal Perturbation(PetscInt k, PetscInt c, PetscReal amplitude)
@@ -144,22 +145,12 @@ static PetscErrorCode CheckAgainstSerial(Cloth cloth, Scene scene, ClothModel mo
 
 int main(int argc, char **argv)
 {
-  char       path[PETSC_MAX_PATH_LEN];
-  PetscInt   grid = 0;
-  PetscBool  flg;
   Scene      scene;
   Cloth      cloth;
   ClothModel model;
 
   PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
-  PetscCall(PetscOptionsGetString(NULL, NULL, "-scene", path, sizeof(path), &flg));
-  PetscCheck(flg, PETSC_COMM_WORLD, PETSC_ERR_USER_INPUT, "Give -scene FILE");
-  PetscCall(PetscOptionsGetInt(NULL, NULL, "-grid", &grid, NULL));
-  PetscCall(SceneCreateFromFile(PETSC_COMM_WORLD, path, &scene));
-  if (grid > 0) PetscCall(SceneSetGridSize(scene, grid));
-  PetscCall(ClothCreate(PETSC_COMM_WORLD, scene, &cloth));
-  PetscCall(ClothSetFromOptions(cloth));
-  PetscCall(ClothSetUp(cloth));
+  PetscCall(TestClothFromOptions(&scene, &cloth));
   PetscCall(ClothGetModel(cloth, &model));
   PetscCall(CheckInteractionCounts(cloth, model));
   PetscCall(SetPerturbedState(cloth, model));

@@ -12,27 +12,7 @@
 #include <petscmat.h>
 #include "scene.h"
 #include "cloth.h"
-
-static PetscErrorCode PerturbState(Cloth cloth)
-{
-  Vec         x, v, noise;
-  PetscRandom rnd;
-
-  PetscFunctionBeginUser;
-  PetscCall(ClothGetState(cloth, &x, &v));
-  PetscCall(PetscRandomCreate(PETSC_COMM_WORLD, &rnd));
-  PetscCall(PetscRandomSetInterval(rnd, -1.0, 1.0));
-  PetscCall(PetscRandomSetSeed(rnd, 7));
-  PetscCall(PetscRandomSeed(rnd));
-  PetscCall(VecDuplicate(x, &noise));
-  PetscCall(VecSetRandom(noise, rnd));
-  PetscCall(VecAXPY(x, 1e-3, noise));
-  PetscCall(VecSetRandom(noise, rnd));
-  PetscCall(VecAXPY(v, 0.1, noise));
-  PetscCall(VecDestroy(&noise));
-  PetscCall(PetscRandomDestroy(&rnd));
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
+#include "test_support.h"
 
 /* Creates the matrix in format `type`, assembles it at the current state, and checks MatGetInfo. */
 static PetscErrorCode AssembleAndCheck(Cloth cloth, const char type[], PetscLogDouble expected_nz, Mat *A)
@@ -88,9 +68,7 @@ static PetscErrorCode OperatorDifference(Mat A, Mat B, PetscReal *difference)
 
 int main(int argc, char **argv)
 {
-  char       path[PETSC_MAX_PATH_LEN];
-  PetscInt   grid = 0, *xadj, *adjncy, edges, n;
-  PetscBool  flg;
+  PetscInt   *xadj, *adjncy, edges, n;
   Scene      scene;
   Cloth      cloth;
   ClothModel model;
@@ -98,19 +76,12 @@ int main(int argc, char **argv)
   PetscReal  difference;
 
   PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
-  PetscCall(PetscOptionsGetString(NULL, NULL, "-scene", path, sizeof(path), &flg));
-  PetscCheck(flg, PETSC_COMM_WORLD, PETSC_ERR_USER_INPUT, "Give -scene FILE");
-  PetscCall(PetscOptionsGetInt(NULL, NULL, "-grid", &grid, NULL));
-  PetscCall(SceneCreateFromFile(PETSC_COMM_WORLD, path, &scene));
-  if (grid > 0) PetscCall(SceneSetGridSize(scene, grid));
-  PetscCall(ClothCreate(PETSC_COMM_WORLD, scene, &cloth));
-  PetscCall(ClothSetFromOptions(cloth));
-  PetscCall(ClothSetUp(cloth));
+  PetscCall(TestClothFromOptions(&scene, &cloth));
   PetscCall(ClothGetModel(cloth, &model));
   PetscCall(ClothModelGetAdjacency(model, &xadj, &adjncy));
   n     = model->nparticles;
   edges = xadj[n] / 2;
-  PetscCall(PerturbState(cloth));
+  PetscCall(TestPerturbState(cloth, 7, 1e-3, 0.1));
   PetscCall(AssembleAndCheck(cloth, MATBAIJ, 9.0 * (n + 2 * edges), &baij));
   PetscCall(AssembleAndCheck(cloth, MATSBAIJ, 9.0 * (n + edges), &sbaij));
   PetscCall(OperatorDifference(baij, sbaij, &difference));

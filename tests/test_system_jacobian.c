@@ -7,27 +7,7 @@
 #include <petscmat.h>
 #include "scene.h"
 #include "cloth.h"
-
-static PetscErrorCode PerturbState(Cloth cloth, PetscReal amplitude, PetscReal speed)
-{
-  Vec         x, v, noise;
-  PetscRandom rnd;
-
-  PetscFunctionBeginUser;
-  PetscCall(ClothGetState(cloth, &x, &v));
-  PetscCall(PetscRandomCreate(PETSC_COMM_WORLD, &rnd));
-  PetscCall(PetscRandomSetInterval(rnd, -1.0, 1.0));
-  PetscCall(PetscRandomSetSeed(rnd, 2024));
-  PetscCall(PetscRandomSeed(rnd));
-  PetscCall(VecDuplicate(x, &noise));
-  PetscCall(VecSetRandom(noise, rnd));
-  PetscCall(VecAXPY(x, amplitude, noise));
-  PetscCall(VecSetRandom(noise, rnd));
-  PetscCall(VecAXPY(v, speed, noise));
-  PetscCall(VecDestroy(&noise));
-  PetscCall(PetscRandomDestroy(&rnd));
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
+#include "test_support.h"
 
 /* column = (F(s + eps e_k) - F(s - eps e_k)) / (2 eps), s = position or velocity. */
 static PetscErrorCode ForceDifference(Cloth cloth, Vec s, PetscInt k, PetscReal eps, Vec column)
@@ -74,7 +54,7 @@ int main(int argc, char **argv)
   PetscCall(ClothSetFromOptions(cloth));
   PetscCall(ClothSetUp(cloth));
   PetscCall(ClothSetExactStiffness(cloth, PETSC_TRUE));
-  PetscCall(PerturbState(cloth, 2e-3, 0.3));
+  PetscCall(TestPerturbState(cloth, 2024, 2e-3, 0.3));
   PetscCall(ClothGetState(cloth, &x, &v));
   PetscCall(ClothGetSizes(cloth, &nlocal, &nglobal));
   PetscCall(ClothGetMasses(cloth, &mass, NULL));

@@ -1,0 +1,41 @@
+/* Helpers shared by the test programs (see test_support.h). */
+#include "test_support.h"
+
+PetscErrorCode TestPerturbState(Cloth cloth, PetscInt seed, PetscReal amplitude, PetscReal speed)
+{
+  Vec         x, v, noise;
+  PetscRandom rnd;
+
+  PetscFunctionBeginUser;
+  PetscCall(ClothGetState(cloth, &x, &v));
+  PetscCall(PetscRandomCreate(PETSC_COMM_WORLD, &rnd));
+  PetscCall(PetscRandomSetInterval(rnd, -1.0, 1.0));
+  PetscCall(PetscRandomSetSeed(rnd, (unsigned long)seed));
+  PetscCall(PetscRandomSeed(rnd));
+  PetscCall(VecDuplicate(x, &noise));
+  PetscCall(VecSetRandom(noise, rnd));
+  PetscCall(VecAXPY(x, amplitude, noise));
+  PetscCall(VecSetRandom(noise, rnd));
+  PetscCall(VecAXPY(v, speed, noise));
+  PetscCall(VecDestroy(&noise));
+  PetscCall(PetscRandomDestroy(&rnd));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode TestClothFromOptions(Scene *scene, Cloth *cloth)
+{
+  char      path[PETSC_MAX_PATH_LEN];
+  PetscInt  grid = 0;
+  PetscBool flg;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsGetString(NULL, NULL, "-scene", path, sizeof(path), &flg));
+  PetscCheck(flg, PETSC_COMM_WORLD, PETSC_ERR_USER_INPUT, "Give -scene FILE");
+  PetscCall(PetscOptionsGetInt(NULL, NULL, "-grid", &grid, NULL));
+  PetscCall(SceneCreateFromFile(PETSC_COMM_WORLD, path, scene));
+  if (grid > 0) PetscCall(SceneSetGridSize(*scene, grid));
+  PetscCall(ClothCreate(PETSC_COMM_WORLD, *scene, cloth));
+  PetscCall(ClothSetFromOptions(*cloth));
+  PetscCall(ClothSetUp(*cloth));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}

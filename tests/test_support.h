@@ -1,0 +1,10 @@
+/* Helpers shared by the test programs (linked into each by clothsim_add_test_program). */
+#pragma once
+#include "scene.h"
+#include "cloth.h"
+
+/* Adds seeded uniform noise in [-1, 1] times amplitude to the positions and times speed to the
+   velocities (the same seed gives the same state on a given rank count). Collective. */
+PetscErrorCode TestPerturbState(Cloth cloth, PetscInt seed, PetscReal amplitude, PetscReal speed);
+/* Reads -scene FILE (required) and -grid N (optional), and sets up the cloth. Collective. */
+PetscErrorCode TestClothFromOptions(Scene *scene, Cloth *cloth);
