@@ -7,29 +7,23 @@
    Prints the measured counts on rank 0; they do not depend on the number of ranks. */
 #include "scene.h"
 #include "run.h"
+#include "test_support.h"
 
 int main(int argc, char **argv)
 {
-  char                path[PETSC_MAX_PATH_LEN];
   Scene               scene;
   ClothRun            run;
   ClothCollision      collision;
   ClothCollisionStats stats;
   PetscInt            inside, inside_max = 0, verified_min = 0, contacts_min = 0;
-  PetscBool           flg;
 
   PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
-  PetscCall(PetscOptionsGetString(NULL, NULL, "-scene", path, sizeof(path), &flg));
-  PetscCheck(flg, PETSC_COMM_WORLD, PETSC_ERR_USER_INPUT, "give -scene");
   PetscCall(PetscOptionsGetInt(NULL, NULL, "-expect_inside_at_most", &inside_max, NULL));
   PetscCall(PetscOptionsGetInt(NULL, NULL, "-expect_verified_at_least", &verified_min, NULL));
   PetscCall(PetscOptionsGetInt(NULL, NULL, "-expect_contacts_at_least", &contacts_min, NULL));
-  PetscCall(SceneCreateFromFile(PETSC_COMM_WORLD, path, &scene));
-  PetscCall(ClothRunCreate(PETSC_COMM_WORLD, scene, &run));
-  PetscCall(ClothRunSetFromOptions(run));
-  PetscCall(ClothRunSetUp(run));
+  PetscCall(TestRunFromOptions(&scene, &run));
   PetscCall(ClothRunGetCollision(run, &collision));
-  PetscCheck(collision, PETSC_COMM_WORLD, PETSC_ERR_USER_INPUT, "scene %s has no bodies", path);
+  PetscCheck(collision, PETSC_COMM_WORLD, PETSC_ERR_USER_INPUT, "scene %s has no bodies", scene->path);
   PetscCall(ClothRunSolve(run));
   PetscCall(ClothCollisionGetStats(collision, &stats));
   PetscCall(ClothCollisionCountInside(collision, &inside));

@@ -6,6 +6,7 @@
 #include <petscvec.h>
 #include "scene.h"
 #include "run.h"
+#include "test_support.h"
 
 /* The largest drop of any particle below its initial height (y), over the whole cloth. */
 static PetscErrorCode LargestDrop(Cloth cloth, PetscReal *drop)
@@ -32,25 +33,18 @@ static PetscErrorCode LargestDrop(Cloth cloth, PetscReal *drop)
 
 int main(int argc, char **argv)
 {
-  char        path[PETSC_MAX_PATH_LEN];
   Scene       scene;
   ClothRun    run;
   Cloth       cloth;
   Vec         x, v;
   ClothEnergy e;
   PetscReal   ke_below = -1, elongation = -1, rtol = 1e-6, drop;
-  PetscBool   flg;
 
   PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
-  PetscCall(PetscOptionsGetString(NULL, NULL, "-scene", path, sizeof(path), &flg));
-  PetscCheck(flg, PETSC_COMM_WORLD, PETSC_ERR_USER_INPUT, "give -scene");
   PetscCall(PetscOptionsGetReal(NULL, NULL, "-expect_ke_below", &ke_below, NULL));
   PetscCall(PetscOptionsGetReal(NULL, NULL, "-expect_elongation", &elongation, NULL));
   PetscCall(PetscOptionsGetReal(NULL, NULL, "-expect_rtol", &rtol, NULL));
-  PetscCall(SceneCreateFromFile(PETSC_COMM_WORLD, path, &scene));
-  PetscCall(ClothRunCreate(PETSC_COMM_WORLD, scene, &run));
-  PetscCall(ClothRunSetFromOptions(run));
-  PetscCall(ClothRunSetUp(run));
+  PetscCall(TestRunFromOptions(&scene, &run));
   PetscCall(ClothRunSolve(run));
   PetscCall(ClothRunGetCloth(run, &cloth));
   PetscCall(ClothGetState(cloth, &x, &v));

@@ -39,3 +39,18 @@ PetscErrorCode TestClothFromOptions(Scene *scene, Cloth *cloth)
   PetscCall(ClothSetUp(*cloth));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
+
+PetscErrorCode TestRunFromOptions(Scene *scene, ClothRun *run)
+{
+  char      path[PETSC_MAX_PATH_LEN];
+  PetscBool flg;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsGetString(NULL, NULL, "-scene", path, sizeof(path), &flg));
+  PetscCheck(flg, PETSC_COMM_WORLD, PETSC_ERR_USER_INPUT, "Give -scene FILE");
+  PetscCall(SceneCreateFromFile(PETSC_COMM_WORLD, path, scene));
+  PetscCall(ClothRunCreate(PETSC_COMM_WORLD, *scene, run));
+  PetscCall(ClothRunSetFromOptions(*run));
+  PetscCall(ClothRunSetUp(*run));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}

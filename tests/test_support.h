@@ -2,9 +2,12 @@
 #pragma once
 #include "scene.h"
 #include "cloth.h"
+#include "run.h"
 
 /* Adds seeded uniform noise in [-1, 1] times amplitude to the positions and times speed to the
    velocities (the same seed gives the same state on a given rank count). Collective. */
 PetscErrorCode TestPerturbState(Cloth cloth, PetscInt seed, PetscReal amplitude, PetscReal speed);
 /* Reads -scene FILE (required) and -grid N (optional), and sets up the cloth. Collective. */
 PetscErrorCode TestClothFromOptions(Scene *scene, Cloth *cloth);
+/* Reads -scene FILE (required) and creates and sets up a run from the options, ready to solve. Collective. */
+PetscErrorCode TestRunFromOptions(Scene *scene, ClothRun *run);
