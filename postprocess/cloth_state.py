@@ -1,11 +1,63 @@
-"""Shared helpers of the postprocess tools: read a clothsim checkpoint (or XDMF .h5 frame) and a scene.
+"""Shared helpers of the postprocess tools: read a clothsim checkpoint, an XDMF series and a scene.
 
 Positions come from /state/position, shape (N, 3), in global (natural) particle order: pieces in scene
 order, each row by row (DESIGN.md "Files written"). Grid sizes come from the scene (or its -grid override).
+A series NAME.h5 holds one group /frames/NNNNNN per frame (docs/checkpoint.md "XDMF series").
 """
+import csv
+import os
+import sys
+
 import h5py
 import numpy as np
 import yaml
+
+
+def _tool():
+    return os.path.basename(sys.argv[0]) or "postprocess"
+
+
+def series_h5(path):
+    """NAME.h5 of a series given as NAME.xdmf or NAME.h5."""
+    root, ext = os.path.splitext(path)
+    h5 = root + ".h5" if ext.lower() in (".xdmf", ".xmf") else path
+    if not os.path.exists(h5):
+        raise SystemExit(f"{_tool()}: {h5} not found (give the .xdmf or .h5 of a clothsim output series)")
+    return h5
+
+
+def read_series(h5path, datasets=("position", "velocity"), attributes=()):
+    """Frames sorted by step, each a dict of step, time, the named datasets (float arrays) and the named
+    attributes of its group; and the quads (M, 4). A frame without one of them is an error."""
+    frames = []
+    with h5py.File(h5path, "r") as f:
+        if "frames" not in f or "topology" not in f or "quads" not in f["topology"]:
+            raise SystemExit(f"{_tool()}: {h5path} has no /frames or /topology/quads: not a clothsim series")
+        for name in f["frames"]:
+            g = f["frames"][name]
+            frame = {"step": int(g.attrs["step"]) if "step" in g.attrs else int(name),
+                     "time": float(g.attrs["time"]) if "time" in g.attrs else float("nan")}
+            missing = [d for d in datasets if d not in g] + [a for a in attributes if a not in g.attrs]
+            if missing:
+                raise SystemExit(f"{_tool()}: {h5path}:/frames/{name} has no {', '.join(missing)} "
+                                 "(written by an older clothsim?)")
+            frame.update({d: np.asarray(g[d][...], float) for d in datasets})
+            frame.update({a: g.attrs[a].item() for a in attributes})
+            frames.append(frame)
+        quads = np.asarray(f["topology/quads"][...], dtype=np.int64)
+    frames.sort(key=lambda fr: fr["step"])
+    if not frames:
+        raise SystemExit(f"{_tool()}: {h5path} has no frames")
+    return frames, quads
+
+
+def write_csv(path, rows):
+    """rows (a list of dicts with the same keys) as a CSV table; floats in full precision (repr)."""
+    with open(path, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
+        w.writeheader()
+        for r in rows:
+            w.writerow({k: repr(v) if isinstance(v, float) else v for k, v in r.items()})
 
 
 def read_positions(path):

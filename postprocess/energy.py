@@ -24,40 +24,13 @@ rows. Example:
       --grid 33 --log run.log --out energy.png --csv energy.csv
 """
 import argparse
-import csv
 import os
 import re
 import sys
 
-import h5py
 import numpy as np
 
-
-def series_h5(path):
-    """NAME.h5 of a series given as NAME.xdmf or NAME.h5."""
-    root, ext = os.path.splitext(path)
-    h5 = root + ".h5" if ext.lower() in (".xdmf", ".xmf") else path
-    if not os.path.exists(h5):
-        raise SystemExit(f"energy.py: {h5} not found (give the .xdmf or .h5 of a clothsim output series)")
-    return h5
-
-
-def read_series(h5path):
-    """Frames sorted by step: list of (step, time, position, velocity), and the quads (M, 4)."""
-    frames = []
-    with h5py.File(h5path, "r") as f:
-        if "frames" not in f or "topology" not in f or "quads" not in f["topology"]:
-            raise SystemExit(f"energy.py: {h5path} has no /frames or /topology/quads: not a clothsim series")
-        for name in f["frames"]:
-            g = f["frames"][name]
-            step = int(g.attrs["step"]) if "step" in g.attrs else int(name)
-            time = float(g.attrs["time"]) if "time" in g.attrs else float("nan")
-            frames.append((step, time, np.asarray(g["position"][...], float), np.asarray(g["velocity"][...], float)))
-        quads = np.asarray(f["topology/quads"][...], dtype=np.int64)
-    frames.sort(key=lambda fr: fr[0])
-    if not frames:
-        raise SystemExit(f"energy.py: {h5path} has no frames")
-    return frames, quads
+from cloth_state import read_series, series_h5, write_csv
 
 
 def quad_areas(x, quads):
@@ -146,11 +119,12 @@ def read_log(path):
 
 
 def analyse(frames, quads, mass, gravity):
-    rest = frames[0][2]
+    rest = frames[0]["position"]
     edges = unique_edges(quads)
     rest_len = np.linalg.norm(rest[edges[:, 1]] - rest[edges[:, 0]], axis=1)
     rows = []
-    for step, time, x, v in frames:
+    for frame in frames:
+        step, time, x, v = frame["step"], frame["time"], frame["position"], frame["velocity"]
         length = np.linalg.norm(x[edges[:, 1]] - x[edges[:, 0]], axis=1)
         strain = length / rest_len - 1.0
         rows.append({
@@ -216,18 +190,14 @@ def main(argv=None):
         with open(args.scene) as f:
             scene = yaml.safe_load(f) or {}
     gravity = np.array(args.gravity if args.gravity else (scene or {}).get("gravity", [0.0, -9.81, 0.0]), float)
-    if frames[0][0] != 0:
-        print(f"energy.py: the first frame is step {frames[0][0]}, not 0: strains are relative to it", file=sys.stderr)
-    mass = particle_masses(frames[0][2], quads, scene, args.density, args.grid)
+    if frames[0]["step"] != 0:
+        print(f"energy.py: the first frame is step {frames[0]['step']}, not 0: strains are relative to it", file=sys.stderr)
+    mass = particle_masses(frames[0]["position"], quads, scene, args.density, args.grid)
     rows = analyse(frames, quads, mass, gravity)
     log = read_log(args.log) if args.log else None
 
     if args.csv:
-        with open(args.csv, "w", newline="") as f:
-            w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
-            w.writeheader()
-            for r in rows:
-                w.writerow({k: repr(v) if isinstance(v, float) else v for k, v in r.items()})
+        write_csv(args.csv, rows)
     plot(rows, log, args.out, f"{os.path.basename(args.series)}: {len(mass)} particles, mass {mass.sum():.6g} kg")
     print(f"{len(rows)} frames, {len(mass)} particles, total mass {mass.sum():.9g} kg")
     print(f"{'step':>7} {'time/s':>10} {'kinetic/J':>14} {'gravity/J':>14} {'max strain':>11} {'min strain':>11}")

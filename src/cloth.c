@@ -451,3 +451,15 @@ PetscErrorCode ClothScatterToNatural(Cloth cloth, Vec solver, Vec natural, Scatt
   }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
+
+PetscErrorCode ClothScatterParticleValuesToNatural(Cloth cloth, Vec solver, Vec values)
+{
+  Vec natural;
+
+  PetscFunctionBeginUser;
+  PetscCall(ClothCreateNaturalVec(cloth, &natural));
+  PetscCall(ClothScatterToNatural(cloth, solver, natural, SCATTER_FORWARD));
+  PetscCall(VecStrideGather(natural, 0, values, INSERT_VALUES));
+  PetscCall(VecDestroy(&natural));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}

@@ -76,6 +76,10 @@ PetscErrorCode ClothComputeEnergy(Cloth cloth, Vec position, Vec velocity, Cloth
 PetscErrorCode ClothCreateNaturalVec(Cloth cloth, Vec *natural);
 /* SCATTER_FORWARD: solver -> natural; SCATTER_REVERSE: natural -> solver. */
 PetscErrorCode ClothScatterToNatural(Cloth cloth, Vec solver, Vec natural, ScatterMode mode);
+/* One value per particle for files: component 0 of each particle's block of solver (state layout,
+   solver numbering) into values (natural order, one entry per particle: a Vec like
+   ClothCreateStrainVec's). Collective. */
+PetscErrorCode ClothScatterParticleValuesToNatural(Cloth cloth, Vec solver, Vec values);
 /* Strain for output (cloth_strain.c): per particle, the largest relative elongation (l - l0) / l0 of
    its stretch links (negative when all are compressed), in natural order, one value per particle, in
    a Vec from ClothCreateStrainVec. position (solver numbering) gets its ghosts refreshed. Collective. */

@@ -65,7 +65,7 @@ PetscErrorCode ClothCreateStrainVec(Cloth cloth, Vec *strain)
 
 PetscErrorCode ClothComputeStrain(Cloth cloth, Vec position, Vec strain)
 {
-  Vec                work, work_local, natural;
+  Vec                work, work_local;
   const PetscScalar *x;
   PetscScalar       *s;
   Vec                position_local;
@@ -90,10 +90,7 @@ PetscErrorCode ClothComputeStrain(Cloth cloth, Vec position, Vec strain)
   for (PetscInt i = 0; i < 3 * cloth->nlocal; i++)
     if (PetscRealPart(s[i]) == -PETSC_MAX_REAL) s[i] = 0;
   PetscCall(VecRestoreArray(work, &s));
-  PetscCall(ClothCreateNaturalVec(cloth, &natural));
-  PetscCall(ClothScatterToNatural(cloth, work, natural, SCATTER_FORWARD));
-  PetscCall(VecStrideGather(natural, 0, strain, INSERT_VALUES));
-  PetscCall(VecDestroy(&natural));
+  PetscCall(ClothScatterParticleValuesToNatural(cloth, work, strain));
   PetscCall(VecDestroy(&work));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -33,6 +33,9 @@ typedef struct {
   PetscReal point[3];
 } SegmentHit;
 
+/* The per-particle contact state (ClothCollisionGetContactField). */
+enum { CONTACT_STATE_FREE, CONTACT_STATE_TOUCHING, CONTACT_STATE_HELD };
+
 /* A contact kept from one step to the next (meshes need the plane of the triangle that was hit). */
 typedef struct {
   PetscInt  body; /* -1: none */
@@ -50,6 +53,7 @@ struct _n_ClothCollision {
   Body                *bodies;
   CollisionMesh       *meshes; /* one per body; used for mesh bodies */
   HeldContact         *held;   /* per owned particle */
+  PetscInt            *state;  /* per owned particle: the contact state of ClothCollisionGetContactField */
   Vec                  force;
   ClothCollisionStats  stats, local;
 };
@@ -472,9 +476,11 @@ static PetscErrorCode ContactParticle(ClothCollision col, PetscInt i, PetscReal 
   }
   if (contact.body < 0) PetscCall(KeepHeldMeshContact(col, &col->held[i], x, &contact));
   col->held[i].body = -1;
+  col->state[i]     = CONTACT_STATE_FREE;
   for (PetscInt k = 0; k < 3; k++) normal[k] = 0;
   if (contact.body < 0) PetscFunctionReturn(PETSC_SUCCESS);
   col->local.contacts++;
+  col->state[i] = CONTACT_STATE_TOUCHING;
   PetscCall(BodyGetDescription(col->bodies[contact.body], &d));
   fn = Dot3(f, contact.normal);
   for (PetscInt k = 0; k < 3; k++) dv[k] = -v[k];
@@ -486,7 +492,8 @@ static PetscErrorCode ContactParticle(ClothCollision col, PetscInt i, PetscReal 
   for (PetscInt k = 0; k < 3; k++) x[k] += h * (dv[k] - dvn * contact.normal[k]);
   PetscCall(KeepOutside(col, p0, x));
   if (fn < 0) { /* the force pushes into the body: hold the particle on the surface during the next step */
-    col->held[i] = contact;
+    col->held[i]  = contact;
+    col->state[i] = CONTACT_STATE_HELD;
     for (PetscInt k = 0; k < 3; k++) normal[k] = contact.normal[k];
     col->local.held++;
   }
@@ -601,6 +608,7 @@ PetscErrorCode ClothCollisionSetUp(ClothCollision col)
   PetscCall(ClothGetSizes(col->cloth, &nlocal, NULL));
   PetscCall(PetscCalloc2(col->nbodies, &col->bodies, col->nbodies, &col->meshes));
   PetscCall(PetscMalloc1(nlocal, &col->held));
+  PetscCall(PetscCalloc1(nlocal, &col->state)); /* CONTACT_STATE_FREE */
   for (PetscInt i = 0; i < nlocal; i++) col->held[i].body = -1;
   for (PetscInt b = 0; b < col->nbodies; b++) {
     char context[CLOTH_PATH_LEN + CLOTH_NAME_LEN + 32];
@@ -690,6 +698,26 @@ PetscErrorCode ClothCollisionGetStats(ClothCollision col, ClothCollisionStats *s
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+PetscErrorCode ClothCollisionGetContactField(ClothCollision col, Vec field, PetscInt *contacts)
+{
+  Vec          work;
+  PetscScalar *w;
+  PetscInt     nlocal;
+
+  PetscFunctionBeginUser;
+  PetscCall(ClothCollisionSetUp(col));
+  PetscCall(ClothGetSizes(col->cloth, &nlocal, NULL));
+  PetscCall(ClothCreateStateVec(col->cloth, &work));
+  PetscCall(VecGetArrayWrite(work, &w));
+  for (PetscInt i = 0; i < nlocal; i++)
+    for (PetscInt k = 0; k < 3; k++) w[3 * i + k] = (PetscScalar)col->state[i];
+  PetscCall(VecRestoreArrayWrite(work, &w));
+  PetscCall(ClothScatterParticleValuesToNatural(col->cloth, work, field));
+  PetscCall(VecDestroy(&work));
+  *contacts = col->stats.contacts;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode ClothCollisionCountInside(ClothCollision col, PetscInt *inside)
 {
   Vec                x;
@@ -739,6 +767,7 @@ PetscErrorCode ClothCollisionDestroy(ClothCollision *collision)
   for (PetscInt b = 0; col->bodies && b < col->nbodies; b++) PetscCall(BodyDestroy(&col->bodies[b]));
   PetscCall(PetscFree2(col->bodies, col->meshes));
   PetscCall(PetscFree(col->held));
+  PetscCall(PetscFree(col->state));
   PetscCall(VecDestroy(&col->force));
   PetscCall(PetscFree(*collision));
   PetscFunctionReturn(PETSC_SUCCESS);

@@ -59,6 +59,12 @@ PetscErrorCode ClothCollisionGetBodies(ClothCollision collision, PetscInt *nbodi
    the cloth's current state, h seconds later; sets the contact constraints for the next step. Collective. */
 PetscErrorCode ClothCollisionApply(ClothCollision collision, Vec previous, PetscReal h);
 PetscErrorCode ClothCollisionGetStats(ClothCollision collision, ClothCollisionStats *stats);
+/* Per particle, in natural order (field: one entry per particle, a Vec like ClothCreateStrainVec's), the
+   contact state left by the last ClothCollisionApply: 0 free, 1 in contact with a body (corrected onto its
+   surface or kept within the slop of it), 2 in contact and held on the surface for the next step; 0 for
+   every particle before the first step. *contacts: the particles in contact (state 1 or 2), summed over
+   ranks (ClothCollisionStats.contacts). Collective. */
+PetscErrorCode ClothCollisionGetContactField(ClothCollision collision, Vec field, PetscInt *contacts);
 /* Counts the owned particles inside any body by the robust inside test (winding number for meshes), summed
    over ranks. Collective. */
 PetscErrorCode ClothCollisionCountInside(ClothCollision collision, PetscInt *inside);

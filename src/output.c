@@ -3,11 +3,15 @@
    NAME.h5 layout:
      /topology/quads              (nquads, 4) int: the fabric's quadrilaterals, global particle indices
      /frames/NNNNNN/              one group per frame, NNNNNN = step (six digits or more);
-                                  attributes step (int64), time (float64)
+                                  attributes step (int64), time (float64) and the frame's counts
+                                  (int64, see OutputWriteFrameCounts): body_contacts,
+                                  self_contacts, self_contact_particles
        position                   (N, 3) float64, natural order
        velocity                   (N, 3) float64
        strain                     (N, 1) float64: largest relative elongation of the particle's
                                   stretch links (any further per-node field: see OutputNodeFields)
+       body_contact               (N, 1) float64: 0 free, 1 in contact with a body, 2 held on it
+       self_contact               (N, 1) float64: cloth-cloth contacts the particle is part of
      /static/<mesh>/points        (nverts, 3) float64: meshes that do not move (ClothOutputAddStaticMesh)
      /static/<mesh>/triangles     (ntris, 3) int
    NAME.xdmf (Xdmf 3) references these with paths relative to its own folder, so the folder can move.
@@ -18,13 +22,13 @@
 #include "h5util.h"
 
 /* Per-node fields written in every frame besides the positions, as XDMF Attributes of the fabric.
-   To add one: add its entry here and pass its Vec at the same index to OutputWriteFrameFields
-   (ncomp 1 is a Scalar, 3 a Vector). */
+   To add one: add its entry here, its Vec to ClothOutputFrame and that Vec at the same index to the
+   fields of ClothOutputWriteFrame (ncomp 1 is a Scalar, 3 a Vector). */
 typedef struct {
   const char *name;
   PetscInt    ncomp;
 } OutputNodeField;
-static const OutputNodeField OutputNodeFields[] = {{"velocity", 3}, {"strain", 1}};
+static const OutputNodeField OutputNodeFields[] = {{"velocity", 3}, {"strain", 1}, {"body_contact", 1}, {"self_contact", 1}};
 #define OUTPUT_NFIELDS ((PetscInt)PETSC_STATIC_ARRAY_LENGTH(OutputNodeFields))
 
 typedef struct {
@@ -298,8 +302,19 @@ PetscErrorCode ClothOutputCreate(MPI_Comm comm, const char dir[], const char nam
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* Writes group /frames/NNNNNN (replacing one of the same step) with the positions and node fields. */
-static PetscErrorCode OutputWriteFrameFields(ClothOutput out, PetscInt64 step, PetscReal time, Vec position, const Vec fields[])
+/* The counts of a frame, as int64 attributes of its group: scalars that h5py reads without loading a
+   dataset (g.attrs["body_contacts"]). */
+static PetscErrorCode OutputWriteFrameCounts(hid_t group, const ClothOutputFrame *frame)
+{
+  PetscFunctionBeginUser;
+  PetscCall(ClothH5AttributeWriteInt64(group, "body_contacts", frame->body_contacts));
+  PetscCall(ClothH5AttributeWriteInt64(group, "self_contacts", frame->self_contacts));
+  PetscCall(ClothH5AttributeWriteInt64(group, "self_contact_particles", frame->self_contact_particles));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Writes group /frames/NNNNNN (replacing one of the same step) with the positions, node fields and counts. */
+static PetscErrorCode OutputWriteFrameFields(ClothOutput out, PetscInt64 step, PetscReal time, Vec position, const Vec fields[], const ClothOutputFrame *content)
 {
   hid_t file, frames, frame;
   char  group[CLOTH_NAME_LEN];
@@ -312,6 +327,7 @@ static PetscErrorCode OutputWriteFrameFields(ClothOutput out, PetscInt64 step, P
   ClothCallHDF5(frame = H5Gcreate2(frames, group, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
   PetscCall(ClothH5AttributeWriteInt64(frame, "step", step));
   PetscCall(ClothH5AttributeWriteReal(frame, "time", time));
+  PetscCall(OutputWriteFrameCounts(frame, content));
   PetscCall(ClothH5WriteVec(frame, "position", position, 3));
   for (PetscInt f = 0; f < OUTPUT_NFIELDS; f++) PetscCall(ClothH5WriteVec(frame, OutputNodeFields[f].name, fields[f], OutputNodeFields[f].ncomp));
   ClothCallHDF5(H5Gclose(frame));
@@ -321,10 +337,10 @@ static PetscErrorCode OutputWriteFrameFields(ClothOutput out, PetscInt64 step, P
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode ClothOutputWriteFrame(ClothOutput out, PetscInt step, PetscReal time, Vec position, Vec velocity, Vec strain)
+PetscErrorCode ClothOutputWriteFrame(ClothOutput out, PetscInt step, PetscReal time, Vec position, const ClothOutputFrame *frame)
 {
   PetscInt n;
-  Vec      fields[OUTPUT_NFIELDS] = {velocity, strain};
+  Vec      fields[OUTPUT_NFIELDS] = {frame->velocity, frame->strain, frame->body_contact, frame->self_contact};
 
   PetscFunctionBeginUser;
   PetscCall(VecGetSize(position, &n));
@@ -334,7 +350,7 @@ PetscErrorCode ClothOutputWriteFrame(ClothOutput out, PetscInt step, PetscReal t
     PetscCheck(n == OutputNodeFields[f].ncomp * out->nparticles, out->comm, PETSC_ERR_ARG_SIZ, "Frame field %s has size %" PetscInt_FMT ", expected %" PetscInt_FMT " per particle (%" PetscInt_FMT " particles)", OutputNodeFields[f].name, n,
                OutputNodeFields[f].ncomp, out->nparticles);
   }
-  PetscCall(OutputWriteFrameFields(out, step, time, position, fields));
+  PetscCall(OutputWriteFrameFields(out, step, time, position, fields, frame));
   PetscCall(OutputWriteXdmf(out));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

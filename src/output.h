@@ -21,10 +21,23 @@ typedef struct {
    and later frames are dropped (a restarted run then appends with no duplicated or missing times);
    otherwise any previous series under that name is replaced. Collective. */
 PetscErrorCode ClothOutputCreate(MPI_Comm comm, const char dir[], const char name[], const ClothOutputTopology *topology, PetscReal restart_time, ClothOutput *out);
-/* Appends one frame at (step, time): positions and velocities (natural order, 3 per particle) and the
-   strain (natural order, one value per particle: ClothComputeStrain); rewrites the .xdmf so that it
-   is complete after every frame. Collective. */
-PetscErrorCode ClothOutputWriteFrame(ClothOutput out, PetscInt step, PetscReal time, Vec position, Vec velocity, Vec strain);
+/* What a frame holds besides the positions. The Vecs are in natural order; the counts are totals over
+   all ranks (every rank passes the same values). A run without bodies or without self-collision passes
+   zero fields and counts, so that every series has the same layout. */
+typedef struct {
+  Vec      velocity;               /* 3 per particle */
+  Vec      strain;                 /* 1 per particle: ClothComputeStrain */
+  Vec      body_contact;           /* 1 per particle: ClothCollisionGetContactField (0 free, 1 in contact, 2 held) */
+  Vec      self_contact;           /* 1 per particle: ClothSelfContactGetContactField (contacts it is part of) */
+  PetscInt body_contacts;          /* particles in contact with a body */
+  PetscInt self_contacts;          /* cloth-cloth contacts (point-triangle and edge-edge pairs) */
+  PetscInt self_contact_particles; /* particles in one or more cloth-cloth contacts */
+} ClothOutputFrame;
+
+/* Appends one frame at (step, time): positions (natural order, 3 per particle), the fields of frame as
+   datasets (and XDMF attributes of the fabric) and its counts as attributes of the frame's group;
+   rewrites the .xdmf so that it is complete after every frame. Collective. */
+PetscErrorCode ClothOutputWriteFrame(ClothOutput out, PetscInt step, PetscReal time, Vec position, const ClothOutputFrame *frame);
 /* Adds a mesh that does not move (the mannequin): nverts points (coords: 3 per point) and ntris
    triangles (tris: 3 point indices each, 0-based), written once to NAME.h5:/static/<name>/{points,
    triangles} and shown as a grid <name> beside "fabric" in every frame of the .xdmf. Every rank passes

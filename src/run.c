@@ -34,6 +34,7 @@ struct _n_ClothRun {
   Vec             natural_position, natural_velocity, natural_dv; /* natural_dv: the implicit warm start */
   Vec             natural_contact;                                 /* contact normals (scenes with bodies) */
   Vec             natural_strain;                                  /* one value per particle, for frames */
+  Vec             natural_body_contact, natural_self_contact;      /* contact fields of frames (output.h); zero when off */
   Vec             natural_sewn;                                    /* sewn seams per particle (sewing.h), checkpoints */
   char            last_checkpoint[CLOTH_PATH_LEN];
   PetscInt        krylov_total, substeps_total;
@@ -290,6 +291,10 @@ PetscErrorCode ClothRunSetUp(ClothRun run)
   PetscCall(ClothCreateNaturalVec(run->cloth, &run->natural_dv));
   if (run->collision) PetscCall(ClothCreateNaturalVec(run->cloth, &run->natural_contact));
   PetscCall(ClothCreateStrainVec(run->cloth, &run->natural_strain));
+  PetscCall(VecDuplicate(run->natural_strain, &run->natural_body_contact)); /* one value per particle */
+  PetscCall(VecDuplicate(run->natural_strain, &run->natural_self_contact));
+  PetscCall(VecZeroEntries(run->natural_body_contact));
+  PetscCall(VecZeroEntries(run->natural_self_contact));
   if (run->scene->nseams > 0) {
     PetscCall(ClothSewingCreate(run->cloth, run->scene, &run->sewing));
     PetscCall(ClothSewingSetFromOptions(run->sewing));
@@ -320,16 +325,35 @@ static PetscErrorCode ClothRunGatherNatural(ClothRun run)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* The contacts of the last step in a frame: with bodies and with self-collision; zeros without. */
+static PetscErrorCode ClothRunGatherContacts(ClothRun run, ClothOutputFrame *frame)
+{
+  PetscBool self_collision;
+
+  PetscFunctionBeginUser;
+  frame->body_contact  = run->natural_body_contact;
+  frame->self_contact  = run->natural_self_contact;
+  frame->body_contacts = frame->self_contacts = frame->self_contact_particles = 0;
+  if (run->collision) PetscCall(ClothCollisionGetContactField(run->collision, run->natural_body_contact, &frame->body_contacts));
+  PetscCall(ClothSelfContactGetEnabled(run->self_contact, &self_collision));
+  if (self_collision) PetscCall(ClothSelfContactGetContactField(run->self_contact, run->natural_self_contact, &frame->self_contacts, &frame->self_contact_particles));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 static PetscErrorCode ClothRunWriteFrame(ClothRun run)
 {
-  Vec x;
+  Vec              x;
+  ClothOutputFrame frame;
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(ClothLog.output, 0, 0, 0, 0));
   PetscCall(ClothRunGatherNatural(run));
   PetscCall(ClothGetState(run->cloth, &x, NULL));
   PetscCall(ClothComputeStrain(run->cloth, x, run->natural_strain));
-  PetscCall(ClothOutputWriteFrame(run->output, run->step, run->time, run->natural_position, run->natural_velocity, run->natural_strain));
+  frame.velocity = run->natural_velocity;
+  frame.strain   = run->natural_strain;
+  PetscCall(ClothRunGatherContacts(run, &frame));
+  PetscCall(ClothOutputWriteFrame(run->output, run->step, run->time, run->natural_position, &frame));
   PetscCall(PetscLogEventEnd(ClothLog.output, 0, 0, 0, 0));
   if (run->monitor_energy) {
     ClothEnergy e;
@@ -495,6 +519,8 @@ PetscErrorCode ClothRunDestroy(ClothRun *run)
   PetscCall(VecDestroy(&r->natural_dv));
   PetscCall(VecDestroy(&r->natural_contact));
   PetscCall(VecDestroy(&r->natural_strain));
+  PetscCall(VecDestroy(&r->natural_body_contact));
+  PetscCall(VecDestroy(&r->natural_self_contact));
   PetscCall(VecDestroy(&r->natural_sewn));
   PetscCall(PetscFree(*run));
   PetscFunctionReturn(PETSC_SUCCESS);

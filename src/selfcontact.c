@@ -1334,6 +1334,27 @@ PetscErrorCode ClothSelfContactGetContacts(ClothSelfContact sc, PetscInt *n, con
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+PetscErrorCode ClothSelfContactGetContactField(ClothSelfContact sc, Vec field, PetscInt *ncontacts, PetscInt *nparticles)
+{
+  const PetscScalar *f;
+  PetscInt           n, counts[2] = {sc->ncontacts, 0};
+
+  PetscFunctionBeginUser;
+  PetscCall(VecZeroEntries(field));
+  for (PetscInt c = 0; c < sc->ncontacts; c++)
+    for (PetscInt k = 0; k < SELF_CONTACT_NP; k++) PetscCall(VecSetValue(field, sc->contacts[c].p[k], 1.0, ADD_VALUES));
+  PetscCall(VecAssemblyBegin(field));
+  PetscCall(VecAssemblyEnd(field));
+  PetscCall(VecGetLocalSize(field, &n));
+  PetscCall(VecGetArrayRead(field, &f));
+  for (PetscInt i = 0; i < n; i++) counts[1] += PetscRealPart(f[i]) > 0;
+  PetscCall(VecRestoreArrayRead(field, &f));
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, counts, 2, MPIU_INT, MPI_SUM, sc->comm));
+  *ncontacts  = counts[0];
+  *nparticles = counts[1];
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode ClothSelfContactView(ClothSelfContact sc, PetscViewer viewer)
 {
   PetscInt local[3] = {sc->contacts_found, sc->impulses, sc->nremote}, sum[3];

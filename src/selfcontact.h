@@ -67,6 +67,13 @@ PetscErrorCode ClothSelfContactUpdate(ClothSelfContact sc, PetscReal h, PetscBoo
 PetscErrorCode ClothSelfContactFind(ClothSelfContact sc, PetscReal radius);
 /* This rank's contacts from the last search (borrowed, natural numbering). Not collective. */
 PetscErrorCode ClothSelfContactGetContacts(ClothSelfContact sc, PetscInt *n, const ClothContact **contacts);
+/* For output: per particle, in natural order (field: one entry per particle, a Vec like
+   ClothCreateStrainVec's), the number of contacts of the last search that it takes part in (each
+   contact has four particles); *ncontacts: the contacts of that search and *nparticles: the particles
+   taking part in one or more, both over all ranks (each contact is handled by one rank). The last
+   search is the velocity filter's (or, with the explicit integrator, ClothSelfContactUpdate's) of the
+   last (sub-)step: pairs within the thickness plus their relative travel over it. Collective. */
+PetscErrorCode ClothSelfContactGetContactField(ClothSelfContact sc, Vec field, PetscInt *ncontacts, PetscInt *nparticles);
 /* Every contact within radius over the whole model at natural-order positions x (3 N), by testing all
    pairs of primitives: the reference for the cell-grid search. Not collective; free with PetscFree. */
 PetscErrorCode ClothSelfContactFindBruteForce(ClothSelfContact sc, const PetscReal x[], PetscReal radius, PetscInt *n, ClothContact **contacts);

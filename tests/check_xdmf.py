@@ -5,9 +5,11 @@ Run with pvpython (ParaView's Python, which must also be able to import h5py and
 Checks, with each of ParaView's XDMF readers (XDMFReader, Xdmf3ReaderS, Xdmf3ReaderT):
   - the time steps are exactly the expected ones (within 1e-12), and the .h5 holds one frame each;
   - at the last time step: the number of points and cells (all grids together);
-  - the grid "fabric": all cells quadrilaterals, positions, velocities and the scalar strain equal
-    (within 1e-12) to the last frame's datasets read from the .h5 with h5py, and position[0, 0]
-    equal to --fabric-x0.
+  - the grid "fabric": all cells quadrilaterals, positions, velocities and the scalars strain,
+    body_contact and self_contact equal (within 1e-12) to the last frame's datasets read from the .h5
+    with h5py, and position[0, 0] equal to --fabric-x0;
+  - every frame group has the integer attributes body_contacts, self_contacts, self_contact_particles
+    (with --counts-are-step: equal to step, step + 1, step + 2, as tests/test_output.c writes them).
 Exits non-zero with a message on the first failed check.
 """
 import argparse
@@ -21,6 +23,8 @@ from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkCommonDataModel import VTK_QUAD, vtkCompositeDataSet
 
 TOLERANCE = 1e-12
+SCALARS = ("strain", "body_contact", "self_contact")  # one value per particle, XDMF Scalar attributes
+COUNTS = ("body_contacts", "self_contacts", "self_contact_particles")  # int64 attributes of each frame group
 READERS = {
     "XDMFReader": lambda path: XDMFReader(FileNames=[path]),
     "Xdmf3ReaderS": lambda path: Xdmf3ReaderS(FileName=[path]),
@@ -38,20 +42,33 @@ def check(condition, message):
         fail(message)
 
 
-def last_frame_from_h5(h5path, times):
-    """Checks the frame groups' times against `times`; returns (position, velocity, strain) of the last."""
+def check_counts(h5path, name, g, counts_are_step):
+    for k, count in enumerate(COUNTS):
+        value = g.attrs.get(count)
+        check(value is not None and np.issubdtype(np.asarray(value).dtype, np.integer) and np.ndim(value) == 0,
+              f"{h5path}:/frames/{name} has no integer attribute {count}")
+        if counts_are_step:
+            check(int(value) == int(g.attrs["step"]) + k, f"{h5path}:/frames/{name} {count} = {value}, expected step + {k}")
+
+
+def last_frame_from_h5(h5path, times, counts_are_step):
+    """Checks the frame groups' times against `times` and their counts; returns (position, velocity,
+    {scalar: values}) of the last."""
     with h5py.File(h5path, "r") as f:
         frames = sorted(((g.attrs["time"], name) for name, g in f["frames"].items()), key=lambda x: x[0])
         found = [t for t, _ in frames]
         check(len(found) == len(times) and np.allclose(found, times, rtol=0, atol=TOLERANCE),
               f"{h5path} holds frames at times {found}, expected {times}")
+        for _, name in frames:
+            check_counts(h5path, name, f["frames"][name], counts_are_step)
         last = f["frames"][frames[-1][1]]
         for name in ("position", "velocity"):
             check(last[name].dtype == np.float64 and last[name].ndim == 2 and last[name].shape[1] == 3,
                   f"{h5path}:{last.name}/{name} is {last[name].dtype} {last[name].shape}, expected float64 (N, 3)")
-        check(last["strain"].dtype == np.float64 and last["strain"].shape == (last["position"].shape[0], 1),
-              f"{h5path}:{last.name}/strain is {last['strain'].dtype} {last['strain'].shape}, expected float64 (N, 1)")
-        return last["position"][...], last["velocity"][...], last["strain"][...]
+        for name in SCALARS:
+            check(name in last and last[name].dtype == np.float64 and last[name].shape == (last["position"].shape[0], 1),
+                  f"{h5path}:{last.name}/{name} is missing or not float64 (N, 1)")
+        return last["position"][...], last["velocity"][...], {name: last[name][...] for name in SCALARS}
 
 
 def leaves(data, name=None):
@@ -78,7 +95,7 @@ def fabric_block(data):
     return named[0]
 
 
-def check_reader(name, path, args, times, position, velocity, strain):
+def check_reader(name, path, args, times, position, velocity, scalars):
     reader = READERS[name](path)
     found = reader.TimestepValues
     found = list(found) if hasattr(found, "__len__") else [found]
@@ -99,11 +116,12 @@ def check_reader(name, path, args, times, position, velocity, strain):
     shown_velocity = vtk_to_numpy(shown_velocity)
     check(shown_velocity.shape == velocity.shape and np.abs(shown_velocity - velocity).max() <= TOLERANCE,
           f"{name}: fabric velocities at t = {found[-1]} differ from the .h5")
-    shown_strain = fabric.GetPointData().GetArray("strain")
-    check(shown_strain is not None and shown_strain.GetNumberOfComponents() == 1, f"{name}: fabric has no scalar point array 'strain'")
-    shown_strain = vtk_to_numpy(shown_strain).reshape(-1, 1)
-    check(shown_strain.shape == strain.shape and np.abs(shown_strain - strain).max() <= TOLERANCE,
-          f"{name}: fabric strain at t = {found[-1]} differs from the .h5")
+    for field, values in scalars.items():
+        shown = fabric.GetPointData().GetArray(field)
+        check(shown is not None and shown.GetNumberOfComponents() == 1, f"{name}: fabric has no scalar point array '{field}'")
+        shown = vtk_to_numpy(shown).reshape(-1, 1)
+        check(shown.shape == values.shape and np.abs(shown - values).max() <= TOLERANCE,
+              f"{name}: fabric {field} at t = {found[-1]} differs from the .h5")
     if args.fabric_x0 is not None:
         check(abs(points[0, 0] - args.fabric_x0) <= TOLERANCE,
               f"{name}: fabric position[0, 0] = {points[0, 0]!r} at the last step, expected {args.fabric_x0!r}")
@@ -117,15 +135,17 @@ def main():
     parser.add_argument("--cells", type=int, required=True, help="cells at the last time step, all grids")
     parser.add_argument("--times", required=True, help="expected time steps, comma-separated")
     parser.add_argument("--fabric-x0", type=float, help="expected x of fabric particle 0 at the last time step")
+    parser.add_argument("--counts-are-step", action="store_true",
+                        help="the frame counts are step, step + 1, step + 2 (tests/test_output.c)")
     parser.add_argument("--readers", default=",".join(READERS), help="ParaView readers to try, comma-separated")
     args = parser.parse_args()
     times = [float(t) for t in args.times.split(",")]
     check(os.path.isfile(args.xdmf), f"{args.xdmf} does not exist")
-    position, velocity, strain = last_frame_from_h5(os.path.splitext(args.xdmf)[0] + ".h5", times)
+    position, velocity, scalars = last_frame_from_h5(os.path.splitext(args.xdmf)[0] + ".h5", times, args.counts_are_step)
     for name in args.readers.split(","):
-        check_reader(name, args.xdmf, args, times, position, velocity, strain)
+        check_reader(name, args.xdmf, args, times, position, velocity, scalars)
     print(f"check_xdmf: {args.xdmf}: {args.points} points, {args.cells} cells, {len(times)} time steps, "
-          f"fields velocity and strain, read by {args.readers}")
+          f"fields velocity, {', '.join(SCALARS)}, counts {', '.join(COUNTS)}, read by {args.readers}")
 
 
 if __name__ == "__main__":

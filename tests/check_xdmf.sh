@@ -14,7 +14,7 @@ fi
 rm -rf "$dir" "$dir.moved"
 "$mpiexec" -n "$ranks" "$program" -dir "$dir"
 
-check() { "$pvpython" "$here/check_xdmf.py" "$@"; }
+check() { "$pvpython" "$here/check_xdmf.py" --counts-are-step "$@"; }
 # 17 particles and 7 quads in two pieces; x of particle 0 is shift + 1/8 (see test_output.c).
 check "$dir/sheet.xdmf" --points 17 --cells 7 --times 0,0.05,0.1 --fabric-x0 0.125
 # Restarted at t = 0.2: frames 0.1 and 0.2 kept, the old 0.3 replaced by the new one (shift 1000).

@@ -4,3 +4,6 @@ foreach(part energy render scaling)
   set_tests_properties(postprocess_${part} PROPERTIES TIMEOUT 90)
 endforeach()
 set_tests_properties(postprocess_scaling PROPERTIES PROCESSORS 2)
+# Contact counts of the output frames against the positions, and postprocess/contacts.py (tests/check_contacts.sh).
+clothsim_add_script_test(postprocess_contacts check_contacts.sh ${MPIEXEC_EXECUTABLE} ${CMAKE_CURRENT_BINARY_DIR}/postprocess_contacts)
+set_tests_properties(postprocess_contacts PROPERTIES TIMEOUT 120 PROCESSORS 2)

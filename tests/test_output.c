@@ -11,7 +11,8 @@
                        frames at times 0 and 0.5
      fresh.xdmf/.h5    restart_time >= 0 with no series yet: starts a new one (one frame at 0.7)
    Position of particle i, component c at time t: shift + (i + c/2) (1 + t) + 1/8; velocity sin(i + c) + t;
-   strain i t / 100. */
+   strain i t / 100; body_contact (i + step) mod 3; self_contact i mod 2; counts: body_contacts = step,
+   self_contacts = step + 1, self_contact_particles = step + 2. */
 #include <string.h>
 #include "output.h"
 
@@ -50,9 +51,10 @@ static PetscErrorCode CreateTopology(ClothOutputTopology *topology, PetscInt **q
 
 static PetscErrorCode WriteFrame(ClothOutput out, MPI_Comm comm, PetscInt n, PetscInt step, PetscReal time, PetscReal shift)
 {
-  Vec          x, v, strain;
-  PetscInt     lo, hi;
-  PetscScalar *xa, *va, *sa;
+  Vec              x, v, strain, body, self;
+  PetscInt         lo, hi;
+  PetscScalar     *xa, *va, *sa, *ba, *ca;
+  ClothOutputFrame frame;
 
   PetscFunctionBeginUser;
   PetscCall(VecCreate(comm, &x));
@@ -76,7 +78,20 @@ static PetscErrorCode WriteFrame(ClothOutput out, MPI_Comm comm, PetscInt n, Pet
   PetscCall(VecGetArray(strain, &sa));
   for (PetscInt i = lo; i < hi; i++) sa[i - lo] = i * time / 100;
   PetscCall(VecRestoreArray(strain, &sa));
-  PetscCall(ClothOutputWriteFrame(out, step, time, x, v, strain));
+  PetscCall(VecDuplicate(strain, &body));
+  PetscCall(VecDuplicate(strain, &self));
+  PetscCall(VecGetArray(body, &ba));
+  PetscCall(VecGetArray(self, &ca));
+  for (PetscInt i = lo; i < hi; i++) {
+    ba[i - lo] = (PetscReal)((i + step) % 3);
+    ca[i - lo] = (PetscReal)(i % 2);
+  }
+  PetscCall(VecRestoreArray(self, &ca));
+  PetscCall(VecRestoreArray(body, &ba));
+  frame = (ClothOutputFrame){v, strain, body, self, step, step + 1, step + 2};
+  PetscCall(ClothOutputWriteFrame(out, step, time, x, &frame));
+  PetscCall(VecDestroy(&body));
+  PetscCall(VecDestroy(&self));
   PetscCall(VecDestroy(&strain));
   PetscCall(VecDestroy(&x));
   PetscCall(VecDestroy(&v));
