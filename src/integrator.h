@@ -31,6 +31,11 @@ PetscErrorCode ClothIntegratorStep(ClothIntegrator integ, PetscReal dt, PetscBoo
    (solver numbering, borrowed; after ClothIntegratorSetUp). *dv is NULL for the other types, which
    keep no state between steps. A bit-for-bit restart saves and restores it. */
 PetscErrorCode ClothIntegratorGetWarmStart(ClothIntegrator integ, Vec *dv);
+/* One line on the implicit system: matrix type, stored blocks and their memory, preconditioner (nothing for
+   explicit integrators). */
+PetscErrorCode ClothIntegratorViewSystem(ClothIntegrator integ, PetscViewer viewer);
+/* How many implicit solves were redone by the fallback solver (prefix fallback_) after a preconditioner breakdown. */
+PetscErrorCode ClothIntegratorGetPCFallbacks(ClothIntegrator integ, PetscInt *count);
 /* Resolves contacts with the scene's bodies after every successful sub-step (collision borrowed; NULL: none). */
 PetscErrorCode ClothIntegratorSetCollision(ClothIntegrator integ, ClothCollision collision);
 PetscErrorCode ClothIntegratorView(ClothIntegrator integ, PetscViewer viewer);

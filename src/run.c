@@ -437,7 +437,9 @@ PetscErrorCode ClothRunSolve(ClothRun run)
   const double   start      = WallTime();
   double         last_print = start;
   PetscBool      ok = PETSC_TRUE, stop = PETSC_FALSE;
+  int            print;
   ClothStepStats stats = {0, 0, run->dt};
+  PetscInt       fallbacks;
 
   PetscFunctionBeginUser;
   PetscCall(PetscPrintf(run->comm, "Running %s: %" PetscInt_FMT " steps of %g s from step %" PetscInt_FMT "; output in %s\n", run->scene->name, run->steps, (double)run->dt, run->step, run->output_dir));
@@ -453,7 +455,11 @@ PetscErrorCode ClothRunSolve(ClothRun run)
     if (run->sewing) PetscCall(ClothSewingUpdate(run->sewing, run->time));
     if ((run->output_every > 0 && run->step % run->output_every == 0) || run->step == run->steps) PetscCall(ClothRunWriteFrame(run));
     if (run->checkpoint_every > 0 && run->step % run->checkpoint_every == 0 && run->step < run->steps) PetscCall(ClothRunWriteCheckpoint(run));
-    if (run->progress_seconds <= 0 || WallTime() - last_print >= run->progress_seconds || run->step == run->steps) {
+    /* rank 0's clock decides for all: the progress line is collective (the sewing status), and the
+       ranks' clocks differ (under load, by more than a step: mismatched collectives, MPI_ERR_TRUNCATE) */
+    print = run->progress_seconds <= 0 || WallTime() - last_print >= run->progress_seconds || run->step == run->steps;
+    PetscCallMPI(MPI_Bcast(&print, 1, MPI_INT, 0, run->comm));
+    if (print) {
       PetscCall(ClothRunProgress(run, first_step, start, &stats));
       last_print = WallTime();
     }
@@ -469,6 +475,9 @@ PetscErrorCode ClothRunSolve(ClothRun run)
     PetscCall(PetscSNPrintf(path, sizeof(path), "%s/quality.json", run->output_dir));
     PetscCall(ClothRunWriteQuality(run, path, WallTime() - start));
   }
+  PetscCall(ClothIntegratorViewSystem(run->integrator, PETSC_VIEWER_STDOUT_(run->comm)));
+  PetscCall(ClothIntegratorGetPCFallbacks(run->integrator, &fallbacks));
+  if (fallbacks) PetscCall(PetscPrintf(run->comm, "Preconditioner breakdowns: %" PetscInt_FMT " solves redone by the fallback solver (-fallback_ksp_type, -fallback_pc_type)\n", fallbacks));
   PetscCall(PetscPrintf(run->comm, "Done: %" PetscInt_FMT " steps (%" PetscInt_FMT " sub-steps), %" PetscInt_FMT " Krylov iterations, %.2f s wall. Results: %s/%s.xdmf (open in ParaView), checkpoint %s\n", run->step - first_step, run->substeps_total, run->krylov_total, WallTime() - start, run->output_dir, run->scene->name, run->last_checkpoint));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -25,3 +25,6 @@ clothsim_add_mpi_test(hanging_sheet_rest_symplectic 1 $<TARGET_FILE:test_run_to_
 clothsim_add_mpi_test(hanging_sheet_rest_explicit 1 $<TARGET_FILE:test_run_to_rest>
   -scene tests/data/hanging_sheet_damped.yaml -grid 3 -integrator explicit -dt 5e-6 -t_final 10 -output_every 0
   -output_dir ${CMAKE_BINARY_DIR}/test-output/rest_explicit -expect_ke_below 1e-10 -progress_seconds 100)
+
+# A breaking-down preconditioner (ICC(0) on large steps) is replaced by the fallback solver for that solve.
+clothsim_add_script_test(implicit_pc_fallback check_pc_fallback.sh ${MPIEXEC_EXECUTABLE} ${CMAKE_CURRENT_BINARY_DIR}/implicit_pc_fallback)
