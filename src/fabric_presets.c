@@ -41,6 +41,27 @@ static const FabricPreset FabricPresets[] = {
     /* gray-interlock.json: t-shirt (interlock knit), 60% cotton 40% polyester. density 0.187; stretching row 0
        [16.593832, -14.695990, 34.477123, 36.860302]; bending row 0 col 0 23.191698e-6, row 2 col 0 14.267624e-6. */
     {"cotton_knit", 0.187, 16.593832, 34.477123, 36.860302 / 4, 14.267624e-6 / 8, 23.191698e-6 / 8},
+    /* Six woven fabrics with a measured drape coefficient (docs/validation.md, section 5): Petrak et al.,
+       Sustainability 17:1388, 2025, doi:10.3390/su17041388 (CC BY 4.0), as transcribed from its Tables 1, 2,
+       4 and 5 in the public repository KAFKA2306/image2outfit, config/materials/kes-woven-fabrics-2025.v1.json
+       (commit 1e4a63f; the paper itself could not be read here). The paper measured the fabrics on KES-FB and
+       converted the values to CLO3D input units: areal mass g/m^2, stretch and shear g/s^2, bending
+       g mm^2/s^2. Taken here by units alone: density = mass x 1e-3 kg/m^2, stretch and shear x 1e-3 N/m,
+       bending x 1e-9 N m (g mm^2/s^2 = 1e-9 kg m^2/s^2), as the continuum rigidities of the angle models;
+       CLO3D's own scaling of its inputs is not published, so B carries that uncertainty. Transcribed numbers
+       (mass; stretch warp, weft; shear; bending warp, weft; measured DC): */
+    /* M1, 100% polyester, twill 3/1: 135.17; 477226, 458614; 41000; 1950, 610; DC 0.223 */
+    {"petrak_m1_polyester_twill", 0.13517, 477.226, 458.614, 41.000, 1950e-9, 610e-9},
+    /* M2, 100% polyester, plain: 83.66; 471944, 373515; 46000; 850, 330; DC 0.228 */
+    {"petrak_m2_polyester_plain", 0.08366, 471.944, 373.515, 46.000, 850e-9, 330e-9},
+    /* M3, 75% wool 15% polyester 10% elastane, twill 2/1: 178.70; 449656, 439815; 50000; 2140, 2000; DC 0.349 */
+    {"petrak_m3_wool_twill", 0.17870, 449.656, 439.815, 50.000, 2140e-9, 2000e-9},
+    /* M4, 63% polyester 33% viscose 4% elastane, twill 2/1: 286.13; 403447, 401762; 61000; 2970, 2400; DC 0.286 */
+    {"petrak_m4_polyester_viscose_twill", 0.28613, 403.447, 401.762, 61.000, 2970e-9, 2400e-9},
+    /* M5, 97% polyester 3% elastane, plain: 242.00; 407166, 415023; 57000; 3220, 3880; DC 0.443 */
+    {"petrak_m5_polyester_plain", 0.24200, 407.166, 415.023, 57.000, 3220e-9, 3880e-9},
+    /* M6, 65% cotton 31% polyester 4% elastane, twill 2/1: 253.36; 473860, 404746; 126000; 7430, 3700; DC 0.549 */
+    {"petrak_m6_cotton_twill", 0.25336, 473.860, 404.746, 126.000, 7430e-9, 3700e-9},
 };
 static const PetscInt FabricPresetCount = (PetscInt)(sizeof(FabricPresets) / sizeof(FabricPresets[0]));
 

@@ -108,7 +108,7 @@ static PetscErrorCode CheckPresets(void)
 {
   SceneFabric fabric;
   PetscBool   found;
-  char        names[256];
+  char        names[1024];
 
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(&fabric, sizeof(fabric)));
@@ -118,6 +118,12 @@ static PetscErrorCode CheckPresets(void)
   PetscCall(CheckClose(fabric.bend_warp, 96.951576e-6 / 8, 1e-15, "denim warp rigidity (bending row 2 / 8)"));
   PetscCall(CheckClose(fabric.bend_weft, 64.196457e-6 / 8, 1e-15, "denim weft rigidity (bending row 0 / 8)"));
   PetscCall(CheckClose(fabric.shear, 53.387184 / 4, 1e-15, "denim shear modulus (k33 / 4)"));
+  PetscCall(FabricPresetApply("petrak_m6_cotton_twill", &fabric, &found));
+  PetscCheck(found, PETSC_COMM_SELF, PETSC_ERR_PLIB, "Preset 'petrak_m6_cotton_twill' not found");
+  PetscCall(CheckClose(fabric.density, 0.25336, 1e-15, "Petrak M6 density (253.36 g/m^2)"));
+  PetscCall(CheckClose(fabric.bend_warp, 7430e-9, 1e-15, "Petrak M6 warp rigidity (7430 g mm^2/s^2)"));
+  PetscCall(CheckClose(fabric.bend_weft, 3700e-9, 1e-15, "Petrak M6 weft rigidity (3700 g mm^2/s^2)"));
+  PetscCall(CheckClose(fabric.shear, 126.0, 1e-15, "Petrak M6 shear (126000 g/s^2)"));
   PetscCall(FabricPresetApply("velvet", &fabric, &found));
   PetscCheck(!found, PETSC_COMM_SELF, PETSC_ERR_PLIB, "Preset 'velvet' should not exist");
   PetscCall(FabricPresetListNames(names, sizeof(names)));

@@ -1,0 +1,37 @@
+#!/bin/bash
+# Cusick drape against published measurements: runs input/cusick_drape.yaml for each preset given at one grid
+# size and time step, and checks with postprocess/cusick_drape.py that the simulated drape coefficient is
+# within TOL of the measured one given with it (docs/validation.md, section 5).
+#
+#   validation_cusick_published.sh GRID DT TOL PRESET=DC_MEASURED...
+set -eu
+: "${CLOTHSIM:?set CLOTHSIM to the clothsim binary}"
+grid=$1
+dt=$2
+tol=$3
+shift 3
+out=${CLOTHSIM_BUILD:-build}/test-output/cusick_published
+mkdir -p "$out"
+py=/usr/bin/python3
+status=0
+for pair in "$@"; do
+  preset=${pair%%=*}
+  measured=${pair#*=}
+  sed "s/preset: cotton_polyester .*/preset: $preset/" input/cusick_drape.yaml > "$out/cusick_$preset.yaml"
+  dir="$out/${preset}_$grid"
+  mpiexec -n 1 "$CLOTHSIM" -scene "$out/cusick_$preset.yaml" -grid "$grid" -dt "$dt" -t_final 4 -output_every 0 -output_dir "$dir" -pc_type cholesky -progress_seconds 100 > "$dir.log" 2>&1 || { tail -20 "$dir.log"; exit 1; }
+  $py postprocess/cusick_drape.py "$(ls "$dir"/checkpoint_*.h5 | tail -1)" --scene "$out/cusick_$preset.yaml" --grid "$grid" --json > "$dir.json"
+  $py - "$dir.json" "$measured" "$tol" "$preset" <<'PY' || status=1
+import json, sys
+r = json.load(open(sys.argv[1]))
+measured, tol, preset = float(sys.argv[2]), float(sys.argv[3]), sys.argv[4]
+sim = r["drape_coefficient"]
+print(f"{preset}: DC simulated {sim:.3f} ({r['folds']} folds, final max speed {r['max_speed']:.1e} m/s), measured {measured:.3f}, error {sim - measured:+.3f}")
+if r["max_speed"] > 1e-3:
+    sys.exit(f"FAIL: {preset} not at rest (max speed {r['max_speed']:.1e} m/s)")
+if abs(sim - measured) > tol:
+    sys.exit(f"FAIL: {preset}: |DC_sim - DC_measured| = {abs(sim - measured):.3f} > {tol}")
+PY
+done
+[[ $status == 0 ]] && echo "cusick drape: simulated drape coefficients within $tol of the published measurements"
+exit $status
