@@ -7,12 +7,22 @@ clothsim writes OUTPUT_DIR/quality.json at the end of a run with seams (src/qual
 gap, particles inside the body, the largest link strain, the kinetic energy, wall time and ranks. This
 tool adds `fabric_crossings`: the number of fabric edges crossing fabric triangles in the last frame of
 OUTPUT_DIR/NAME.h5, by the edge-triangle test of tests/check_self_intersection.py (the same test the
-self-collision tests use), and rewrites the file.
+self-collision tests use), and rewrites the file. Sewn pairs are held by stiff links, not merged, so
+the particles a seam link joins (quality.json's seam_links: a node and the one or two nodes of the
+point it is sewn to), and two particles both joined to a third (where seams meet), count as one
+particle: an edge and a triangle that meet at a sewn point are the seam itself, as two cells of one
+piece meet at their shared particle; the simulation's contact exclusion (src/sewing.h) is the same
+relation. `fabric_crossings_unjoined` is the count without this, for reference.
 
 With --check it also exits non-zero unless the garment meets the targets of issue 8: every seam closed
 (max_seam_gap_m < 0.002, all pairs sewn), no particle inside the body, no fabric crossing, max_link_strain
-< 0.10 and kinetic_energy_j below --ke-max (default 1e-3 J: at rest)."""
+< 0.10 and kinetic_energy_j below --ke-max (default 1e-3 J: at rest).
+
+With --worst N it lists where the garment falls short in that frame: the N most strained particles and
+N of the crossings, each particle named "piece (i, j)" from the pieces' grids in --scene (the run's own
+output lists the widest seam pairs the same way)."""
 import argparse
+import collections
 import json
 import os
 import sys
@@ -24,14 +34,77 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 from check_self_intersection import crossings, primitives  # noqa: E402
 
 
-def last_frame_crossings(h5path):
+def joined_pairs(seam_links, n):
+    """Codes a * n + b (both orders) of the particle pairs that count as one particle: the node and the
+    other side's nodes of every seam link, and two particles joined to a common third."""
+    partners = collections.defaultdict(set)
+    for link in seam_links:
+        for other in link[1:]:
+            partners[link[0]].add(other)
+            partners[other].add(link[0])
+    codes = set()
+    for a, direct in partners.items():
+        reach = set(direct)
+        for b in direct:
+            reach |= partners[b]
+        reach.discard(a)
+        codes.update(a * n + b for b in reach)
+    return np.array(sorted(codes), dtype=np.int64)
+
+
+def last_frame_crossings(h5path, seam_links=(), examples=0):
+    """The crossings of the last frame (sewn points joined, and without that), the frame's name, up to
+    `examples` crossings and the strain field."""
     with h5py.File(h5path, "r") as f:
         quads = f["/topology/quads"][:].astype(np.int64)
         frames = sorted(f["/frames"].keys())
         x = f["/frames/" + frames[-1] + "/position"][:]
+        strain = f["/frames/" + frames[-1] + "/strain"][:].ravel()
     tris, edges = primitives(quads)
-    count, _ = crossings(x, tris, edges)
-    return count, frames[-1]
+    count, hits = crossings(x, tris, edges, examples, joined_pairs(seam_links, len(x)))
+    unjoined, _ = crossings(x, tris, edges, 0)
+    return count, unjoined, frames[-1], hits, strain
+
+
+def particle_namer(scene_path):
+    """A function naming a particle "piece (i, j)" from the scene's pieces (natural order: piece by piece,
+    i fastest); without a scene, by its number."""
+    if not scene_path:
+        return str
+    import yaml
+    with open(scene_path) as f:
+        scene = yaml.safe_load(f)
+    pieces, first = [], 0
+    for piece in scene["pieces"]:
+        nu, nv = piece["grid"]
+        pieces.append((piece["name"], first, nu))
+        first += nu * nv
+
+    def name(g):
+        for piece, start, nu in reversed(pieces):
+            if g >= start:
+                return f"{piece} ({(g - start) % nu}, {(g - start) // nu})"
+    return name
+
+
+def report_worst(n, hits, strain, name):
+    print(f"{n} most strained particles:")
+    for g in np.argsort(-strain)[:n]:
+        print(f"  {strain[g]:.4f}  {name(int(g))}")
+    pieces = collections.Counter()
+    for edge, tri in hits:
+        pieces[(name(edge[0]).split(" (")[0], name(tri[0]).split(" (")[0])] += 1
+    print(f"crossings listed: {len(hits)}, by (edge piece, triangle piece): {dict(pieces)}")
+    for edge, tri in hits[:n]:
+        print(f"  edge {' - '.join(name(p) for p in edge)}  through triangle {', '.join(name(p) for p in tri)}")
+
+
+def quality_json(quality):
+    """The record as indented JSON, with seam_links (a long list of short lists) on one line."""
+    text = json.dumps({key: value for key, value in quality.items() if key != "seam_links"}, indent=2)
+    if "seam_links" in quality:
+        text = text[:-2] + ',\n  "seam_links": ' + json.dumps(quality["seam_links"]) + "\n}"
+    return text
 
 
 def main():
@@ -40,16 +113,21 @@ def main():
     parser.add_argument("--name", default="dress", help="scene name: the series is OUTPUT_DIR/NAME.h5 (default dress)")
     parser.add_argument("--check", action="store_true", help="fail unless the targets of issue 8 are met")
     parser.add_argument("--ke-max", type=float, default=1e-3, help="kinetic energy (J) below which the garment is at rest")
+    parser.add_argument("--worst", type=int, default=0, metavar="N", help="list the N most strained particles and N crossings")
+    parser.add_argument("--scene", help="the run's scene file, to name particles by piece and grid node in --worst")
     args = parser.parse_args()
     qpath = os.path.join(args.output_dir, "quality.json")
     with open(qpath) as f:
         quality = json.load(f)
-    quality["fabric_crossings"], frame = last_frame_crossings(os.path.join(args.output_dir, args.name + ".h5"))
+    h5path = os.path.join(args.output_dir, args.name + ".h5")
+    count, unjoined, frame, hits, strain = last_frame_crossings(h5path, quality.get("seam_links", ()), 10**9 if args.worst else 0)
+    quality["fabric_crossings"], quality["fabric_crossings_unjoined"] = count, unjoined
     with open(qpath, "w") as f:
-        json.dump(quality, f, indent=2)
-        f.write("\n")
-    print(json.dumps(quality, indent=2))
+        f.write(quality_json(quality) + "\n")
+    print(json.dumps({key: value for key, value in quality.items() if key != "seam_links"}, indent=2))
     print(f"fabric crossings counted in frame {frame}")
+    if args.worst:
+        report_worst(args.worst, hits, strain, particle_namer(args.scene))
     if not args.check:
         return 0
     failures = []

@@ -432,6 +432,19 @@ PetscErrorCode ClothGetModel(Cloth cloth, ClothModel *model)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+PetscErrorCode ClothGetParticleName(Cloth cloth, PetscInt g, char name[], size_t len)
+{
+  const ClothModel m     = cloth->model;
+  PetscInt         piece = 0, nu;
+
+  PetscFunctionBeginUser;
+  PetscCheck(g >= 0 && g < m->nparticles, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "Particle %" PetscInt_FMT " is not in 0..%" PetscInt_FMT, g, m->nparticles - 1);
+  while (m->piece_offset[piece + 1] <= g) piece++;
+  nu = cloth->scene->pieces[piece].nu;
+  PetscCall(PetscSNPrintf(name, len, "%s (%" PetscInt_FMT ", %" PetscInt_FMT ")", cloth->scene->pieces[piece].name, (g - m->piece_offset[piece]) % nu, (g - m->piece_offset[piece]) / nu));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode ClothCreateNaturalVec(Cloth cloth, Vec *natural)
 {
   PetscFunctionBeginUser;

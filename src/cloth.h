@@ -95,3 +95,5 @@ PetscErrorCode ClothGetLocalPositionArray(Cloth cloth, const PetscScalar **x);
 PetscErrorCode ClothRestoreLocalPositionArray(Cloth cloth, const PetscScalar **x);
 /* The global model (every rank holds it; read-only): topology for output, counts. */
 PetscErrorCode ClothGetModel(Cloth cloth, ClothModel *model);
+/* Names natural particle g as "piece (i, j)": its piece and grid node, for diagnostics. Not collective. */
+PetscErrorCode ClothGetParticleName(Cloth cloth, PetscInt g, char name[], size_t len);

@@ -2,8 +2,47 @@
 #include "quality.h"
 #include "sewing.h"
 
-/* Largest relative stretch of any stretch link at the current positions. */
-static PetscErrorCode MaxLinkStrain(Cloth cloth, PetscReal *strain)
+/* Prints the n particles with the largest strain (natural Vec), with their piece and grid node. */
+static PetscErrorCode ViewMostStrained(Cloth cloth, Vec natural, PetscInt n)
+{
+  VecScatter         to_zero;
+  Vec                all;
+  const PetscScalar *s;
+  PetscReal         *strain;
+  PetscInt           size;
+  PetscMPIInt        rank;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(PETSC_COMM_WORLD, &rank));
+  PetscCall(VecScatterCreateToZero(natural, &to_zero, &all));
+  PetscCall(VecScatterBegin(to_zero, natural, all, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(to_zero, natural, all, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "Most strained particles (largest (l - l0) / l0 of their stretch links):\n"));
+  if (rank == 0) {
+    PetscCall(VecGetSize(all, &size));
+    PetscCall(PetscMalloc1(size, &strain));
+    PetscCall(VecGetArrayRead(all, &s));
+    for (PetscInt g = 0; g < size; g++) strain[g] = PetscRealPart(s[g]);
+    PetscCall(VecRestoreArrayRead(all, &s));
+    for (PetscInt r = 0; r < PetscMin(n, size); r++) {
+      PetscInt most = 0;
+      char     name[2 * CLOTH_NAME_LEN];
+      for (PetscInt g = 1; g < size; g++)
+        if (strain[g] > strain[most]) most = g;
+      PetscCall(ClothGetParticleName(cloth, most, name, sizeof(name)));
+      PetscCall(PetscPrintf(PETSC_COMM_SELF, "  %.4f  %s\n", (double)strain[most], name));
+      strain[most] = -PETSC_MAX_REAL;
+    }
+    PetscCall(PetscFree(strain));
+  }
+  PetscCall(VecScatterDestroy(&to_zero));
+  PetscCall(VecDestroy(&all));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Largest relative stretch of any stretch link at the current positions; the n most strained
+   particles are printed. */
+static PetscErrorCode MaxLinkStrain(Cloth cloth, PetscInt n, PetscReal *strain)
 {
   Vec natural, x;
 
@@ -12,7 +51,28 @@ static PetscErrorCode MaxLinkStrain(Cloth cloth, PetscReal *strain)
   PetscCall(ClothGetState(cloth, &x, NULL));
   PetscCall(ClothComputeStrain(cloth, x, natural));
   PetscCall(VecMax(natural, NULL, strain));
+  if (n > 0) PetscCall(ViewMostStrained(cloth, natural, n));
   PetscCall(VecDestroy(&natural));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* "seam_links": the particles (natural numbers) of every seam link, the node first, for the crossing
+   count of postprocess/garment_quality.py (an edge and a triangle that meet at a sewn point are the seam
+   itself, as two cells of one piece meet at a shared particle). Rank 0 writes. */
+static PetscErrorCode WriteSeamLinks(Cloth cloth, FILE *fp)
+{
+  ClothModel model;
+
+  PetscFunctionBeginUser;
+  PetscCall(ClothGetModel(cloth, &model));
+  PetscCall(PetscFPrintf(PETSC_COMM_WORLD, fp, "  \"seam_links\": ["));
+  for (PetscInt l = 0; l < model->nseamlinks; l++) {
+    const ClothSeamLink *link = &model->seamlinks[l];
+    PetscCall(PetscFPrintf(PETSC_COMM_WORLD, fp, "%s[%" PetscInt_FMT ", %" PetscInt_FMT, l ? ", " : "", link->p[0], link->p[1]));
+    if (link->np == 3) PetscCall(PetscFPrintf(PETSC_COMM_WORLD, fp, ", %" PetscInt_FMT, link->p[2]));
+    PetscCall(PetscFPrintf(PETSC_COMM_WORLD, fp, "]"));
+  }
+  PetscCall(PetscFPrintf(PETSC_COMM_WORLD, fp, "]\n"));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -24,7 +84,7 @@ PetscErrorCode ClothRunWriteQuality(ClothRun run, const char path[], PetscReal w
   ClothSewingPhase phase;
   ClothEnergy      energy;
   Vec              x, v;
-  PetscInt         inside = 0, sewn = 0, total = 0;
+  PetscInt         inside = 0, sewn = 0, total = 0, worst = 5;
   PetscReal        gap = 0, strain;
   PetscMPIInt      size;
   FILE            *fp;
@@ -33,16 +93,22 @@ PetscErrorCode ClothRunWriteQuality(ClothRun run, const char path[], PetscReal w
   PetscCall(ClothRunGetCloth(run, &cloth));
   PetscCall(ClothRunGetCollision(run, &collision));
   PetscCall(ClothRunGetSewing(run, &sewing));
+  PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Garment quality (written at the end of a run with seams)", "ClothRunWriteQuality");
+  PetscCall(PetscOptionsInt("-quality_worst", "Print this many of the widest seam pairs and of the most strained particles, with their pieces and grid nodes", "ClothRunWriteQuality", worst, &worst, NULL));
+  PetscOptionsEnd();
   if (sewing) PetscCall(ClothSewingGetStatus(sewing, &phase, &sewn, &total, &gap));
+  if (sewing) PetscCall(ClothSewingViewWidest(sewing, worst));
   if (collision) PetscCall(ClothCollisionCountInside(collision, &inside));
-  PetscCall(MaxLinkStrain(cloth, &strain));
+  PetscCall(MaxLinkStrain(cloth, worst, &strain));
   PetscCall(ClothGetState(cloth, &x, &v));
   PetscCall(ClothComputeEnergy(cloth, x, v, &energy));
   PetscCallMPI(MPI_Comm_size(PETSC_COMM_WORLD, &size));
   PetscCall(PetscFOpen(PETSC_COMM_WORLD, path, "w", &fp));
   PetscCall(PetscFPrintf(PETSC_COMM_WORLD, fp, "{\n  \"max_seam_gap_m\": %.6e,\n  \"sewn_pairs\": %" PetscInt_FMT ",\n  \"seam_pairs\": %" PetscInt_FMT ",\n", (double)gap, sewn, total));
   PetscCall(PetscFPrintf(PETSC_COMM_WORLD, fp, "  \"particles_inside_body\": %" PetscInt_FMT ",\n  \"max_link_strain\": %.6e,\n  \"kinetic_energy_j\": %.6e,\n", inside, (double)strain, (double)energy.kinetic));
-  PetscCall(PetscFPrintf(PETSC_COMM_WORLD, fp, "  \"wall_s\": %.3f,\n  \"ranks\": %d\n}\n", (double)wall_seconds, (int)size));
+  PetscCall(PetscFPrintf(PETSC_COMM_WORLD, fp, "  \"wall_s\": %.3f,\n  \"ranks\": %d,\n", (double)wall_seconds, (int)size));
+  PetscCall(WriteSeamLinks(cloth, fp));
+  PetscCall(PetscFPrintf(PETSC_COMM_WORLD, fp, "}\n"));
   PetscCall(PetscFClose(PETSC_COMM_WORLD, fp));
   PetscCall(PetscPrintf(PETSC_COMM_WORLD, "Garment quality: widest seam gap %.2f mm (%" PetscInt_FMT "/%" PetscInt_FMT " pairs sewn), %" PetscInt_FMT " particles inside the body, max link strain %.4f, kinetic energy %.3e J -> %s\n", (double)(1e3 * gap), sewn, total, inside, (double)strain, (double)energy.kinetic, path));
   PetscFunctionReturn(PETSC_SUCCESS);

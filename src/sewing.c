@@ -2,18 +2,21 @@
 #include "sewing.h"
 #include "seam.h"
 
-#define SEAM_BAND 2 /* grid rows around a seam where cloth-cloth contact is not applied */
+#define SEAM_BAND 2 /* grid rows around a seam where cloth-cloth contact is not applied while it is pulled closed */
 
 const char *const ClothSewingPhases[] = {"pull", "settle", "ClothSewingPhase", "CLOTH_SEWING_", NULL};
 
 struct _n_ClothSewing {
   Cloth            cloth;
+  Scene            scene; /* seam names */
   SceneSewing      params;
   ClothSewingPhase phase;
-  PetscInt         nlinks; /* seam links of the whole model */
-  PetscInt        *sewn;   /* per model seam link: 1 once sewn; the same on every rank */
-  PetscInt        *closed; /* work: links this rank found closed in the last step */
-  uint64_t        *near;   /* per particle (natural): bit s set within SEAM_BAND rows of seam s */
+  PetscInt         nlinks;          /* seam links of the whole model */
+  PetscInt        *sewn;            /* per model seam link: 1 once sewn; the same on every rank */
+  PetscInt        *closed;          /* work: links this rank found closed in the last step */
+  uint64_t        *near;            /* per particle (natural): bit s set within SEAM_BAND rows of seam s */
+  PetscInt        *partner_offset;  /* CSR per particle (natural): the particles a seam link joins it to */
+  PetscInt        *partner;
   PetscReal        max_time;
 };
 
@@ -39,12 +42,53 @@ static PetscErrorCode ClothSewingMarkSeamBands(ClothSewing s, Scene scene, Cloth
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* The partners of every particle: the particles of the other side of each seam link it belongs to (the
+   node and the one or two nodes of the point it is sewn to), in CSR form. */
+static PetscErrorCode ClothSewingBuildPartners(ClothSewing s, ClothModel model)
+{
+  PetscInt *count;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscCalloc1(model->nparticles + 1, &s->partner_offset));
+  PetscCall(PetscCalloc1(model->nparticles, &count));
+  for (PetscInt l = 0; l < model->nseamlinks; l++) {
+    const ClothSeamLink *link = &model->seamlinks[l];
+    s->partner_offset[link->p[0] + 1] += link->np - 1;
+    for (PetscInt k = 1; k < link->np; k++) s->partner_offset[link->p[k] + 1]++;
+  }
+  for (PetscInt g = 0; g < model->nparticles; g++) s->partner_offset[g + 1] += s->partner_offset[g];
+  PetscCall(PetscMalloc1(s->partner_offset[model->nparticles] + 1, &s->partner));
+  for (PetscInt l = 0; l < model->nseamlinks; l++) {
+    const ClothSeamLink *link = &model->seamlinks[l];
+    const PetscInt       a    = link->p[0];
+    for (PetscInt k = 1; k < link->np; k++) {
+      const PetscInt b = link->p[k];
+      s->partner[s->partner_offset[a] + count[a]++] = b;
+      s->partner[s->partner_offset[b] + count[b]++] = a;
+    }
+  }
+  PetscCall(PetscFree(count));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscBool ClothSewingArePartners(ClothSewing s, PetscInt a, PetscInt b)
+{
+  for (PetscInt k = s->partner_offset[a]; k < s->partner_offset[a + 1]; k++)
+    if (s->partner[k] == b) return PETSC_TRUE;
+  return PETSC_FALSE;
+}
+
 PetscErrorCode ClothSewingExcludeContact(void *ctx, PetscInt a, PetscInt b, PetscBool *excluded)
 {
   ClothSewing s = (ClothSewing)ctx;
 
   PetscFunctionBeginUser;
-  *excluded = (s->near[a] & s->near[b]) ? PETSC_TRUE : PETSC_FALSE;
+  if (s->phase == CLOTH_SEWING_PULL) {
+    *excluded = (s->near[a] & s->near[b]) ? PETSC_TRUE : PETSC_FALSE;
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
+  *excluded = ClothSewingArePartners(s, a, b);
+  for (PetscInt k = s->partner_offset[a]; !*excluded && k < s->partner_offset[a + 1]; k++) *excluded = ClothSewingArePartners(s, s->partner[k], b);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -57,12 +101,14 @@ PetscErrorCode ClothSewingCreate(Cloth cloth, Scene scene, ClothSewing *sewing)
   PetscCall(PetscNew(&s));
   PetscCall(ClothGetModel(cloth, &model));
   s->cloth    = cloth;
+  s->scene    = scene;
   s->params   = scene->sewing;
   s->phase    = CLOTH_SEWING_PULL;
   s->nlinks   = model->nseamlinks;
   s->max_time = scene->sewing.max_time;
   PetscCall(PetscCalloc2(s->nlinks, &s->sewn, s->nlinks, &s->closed));
   PetscCall(ClothSewingMarkSeamBands(s, scene, model));
+  PetscCall(ClothSewingBuildPartners(s, model));
   *sewing = s;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -176,6 +222,46 @@ PetscErrorCode ClothSewingGetStatus(ClothSewing sewing, ClothSewingPhase *phase,
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+PetscErrorCode ClothSewingViewWidest(ClothSewing sewing, PetscInt n)
+{
+  ClothModel         model;
+  ClothSeamLink     *links;
+  const PetscInt    *model_index;
+  const PetscScalar *x;
+  PetscReal         *gap;
+  PetscInt           nlocal;
+
+  PetscFunctionBeginUser;
+  if (n <= 0 || sewing->nlinks == 0) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(ClothGetModel(sewing->cloth, &model));
+  PetscCall(PetscCalloc1(sewing->nlinks, &gap));
+  PetscCall(ClothGetSeamLinks(sewing->cloth, &nlocal, &links, &model_index));
+  PetscCall(ClothGetLocalPositionArray(sewing->cloth, &x));
+  for (PetscInt l = 0; l < nlocal; l++) {
+    const PetscReal *xs[CLOTH_SEAM_LINK_MAX_PARTICLES];
+    for (PetscInt k = 0; k < links[l].np; k++) xs[k] = &x[3 * links[l].p[k]];
+    gap[model_index[l]] = ClothSeamLinkGap(&links[l], xs);
+  }
+  PetscCall(ClothRestoreLocalPositionArray(sewing->cloth, &x));
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, gap, (PetscMPIInt)sewing->nlinks, MPIU_REAL, MPIU_MAX, PETSC_COMM_WORLD));
+  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "Widest seam pairs (seam: node - the point it is sewn to, between nodes with weights):\n"));
+  for (PetscInt r = 0; r < PetscMin(n, sewing->nlinks); r++) {
+    const ClothSeamLink *link;
+    PetscInt             widest = 0;
+    char                 name[3][2 * CLOTH_NAME_LEN];
+
+    for (PetscInt l = 1; l < sewing->nlinks; l++)
+      if (gap[l] > gap[widest]) widest = l;
+    link = &model->seamlinks[widest];
+    for (PetscInt k = 0; k < link->np; k++) PetscCall(ClothGetParticleName(sewing->cloth, link->p[k], name[k], sizeof(name[k])));
+    if (link->np == 2) PetscCall(PetscPrintf(PETSC_COMM_WORLD, "  %6.2f mm  %s: %s - %s\n", (double)(1e3 * gap[widest]), sewing->scene->seams[link->seam].name, name[0], name[1]));
+    else PetscCall(PetscPrintf(PETSC_COMM_WORLD, "  %6.2f mm  %s: %s - %.2f %s + %.2f %s\n", (double)(1e3 * gap[widest]), sewing->scene->seams[link->seam].name, name[0], (double)-link->c[1], name[1], (double)-link->c[2], name[2]));
+    gap[widest] = -1;
+  }
+  PetscCall(PetscFree(gap));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode ClothSewingGetStateVec(ClothSewing sewing, Vec sewn)
 {
   ClothModel   model;
@@ -229,6 +315,8 @@ PetscErrorCode ClothSewingDestroy(ClothSewing *sewing)
   if (!*sewing) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(PetscFree2((*sewing)->sewn, (*sewing)->closed));
   PetscCall(PetscFree((*sewing)->near));
+  PetscCall(PetscFree((*sewing)->partner_offset));
+  PetscCall(PetscFree((*sewing)->partner));
   PetscCall(PetscFree(*sewing));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

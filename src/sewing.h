@@ -23,6 +23,9 @@ PetscErrorCode ClothSewingSetUp(ClothSewing sewing);
 PetscErrorCode ClothSewingUpdate(ClothSewing sewing, PetscReal time);
 /* The phase, sewn and total pair counts and the widest gap of all pairs (m). Collective. */
 PetscErrorCode ClothSewingGetStatus(ClothSewing sewing, ClothSewingPhase *phase, PetscInt *sewn, PetscInt *total, PetscReal *max_gap);
+/* Prints the n widest seam pairs at the current positions: gap, seam, and the piece and grid node
+   (i, j) of each particle of the pair. Collective. */
+PetscErrorCode ClothSewingViewWidest(ClothSewing sewing, PetscInt n);
 /* The sewn state as one number per particle for checkpoints (natural order, block size 1): the sum of
    2^s over the seams s whose link at that node (the node a link starts from) is sewn. A node starts at
    most one link per seam, so this is exact for up to 52 seams. The phase is not stored: it follows from
@@ -30,8 +33,15 @@ PetscErrorCode ClothSewingGetStatus(ClothSewing sewing, ClothSewingPhase *phase,
 PetscErrorCode ClothSewingGetStateVec(ClothSewing sewing, Vec sewn);
 /* Restores the sewn state written by ClothSewingGetStateVec at simulated time t. Collective. */
 PetscErrorCode ClothSewingSetStateVec(ClothSewing sewing, Vec sewn, PetscReal time);
-/* Cloth-cloth contact exclusion (selfcontact.h's ClothSelfContactExcludeFn, ctx the ClothSewing):
-   particles a and b (natural numbers) within two grid rows of the same seam never repel each other,
-   or the contact thickness would hold every seam open by that much. */
+/* Cloth-cloth contact exclusion (selfcontact.h's ClothSelfContactExcludeFn, ctx the ClothSewing) on
+   particles a and b (natural numbers). While the seams are pulled closed: particles within two grid
+   rows of the same seam never repel each other (the pull, like gravity, is far weaker than the
+   repulsion, and the layers must pass each other to close). Once all pairs are sewn: only the pairs a
+   seam link joins, and two particles each joined to a third one (where two seams meet, as at the
+   corners of the waist and the side seams); selfcontact.c excludes a pair of primitives when any of
+   their particles are, so the points of a seam also skip the triangles and edges around the points
+   they are sewn to, and every other contact, also one row from a seam, is repelled. Without the
+   exclusion the contact thickness (and the impulses, which keep min_gap x thickness) would hold every
+   seam open by that much. */
 PetscErrorCode ClothSewingExcludeContact(void *ctx, PetscInt a, PetscInt b, PetscBool *excluded);
 PetscErrorCode ClothSewingDestroy(ClothSewing *sewing);

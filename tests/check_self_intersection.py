@@ -23,8 +23,9 @@ def primitives(quads):
     return tris, edges
 
 
-def candidate_pairs(x, tris, edges):
-    """Edge-triangle pairs whose bounding boxes overlap and that share no particle."""
+def candidate_pairs(x, tris, edges, joined=None):
+    """Edge-triangle pairs whose bounding boxes overlap and that share no particle; `joined` (optional,
+    sorted int64 codes a * N + b of particle pairs, both orders) lists pairs that count as one particle."""
     tlo, thi = x[tris].min(axis=1), x[tris].max(axis=1)
     elo, ehi = x[edges].min(axis=1), x[edges].max(axis=1)
     pairs = []
@@ -38,12 +39,15 @@ def candidate_pairs(x, tris, edges):
         for a in range(2):
             for b in range(3):
                 shared |= edges[e, a] == tris[t, b]
+                if joined is not None and len(joined):
+                    shared |= np.isin(edges[e, a] * len(x) + tris[t, b], joined, assume_unique=False)
         pairs.append((e[~shared], t[~shared]))
     return np.concatenate([p[0] for p in pairs]), np.concatenate([p[1] for p in pairs])
 
 
-def crossings(x, tris, edges):
-    e, t = candidate_pairs(x, tris, edges)
+def crossings(x, tris, edges, examples=5, joined=None):
+    """The number of edge-triangle crossings and up to `examples` of them as (edge, triangle) particle lists."""
+    e, t = candidate_pairs(x, tris, edges, joined)
     p0, p1 = x[edges[e, 0]], x[edges[e, 1]]
     v0, v1, v2 = x[tris[t, 0]], x[tris[t, 1]], x[tris[t, 2]]
     d, e1, e2 = p1 - p0, v1 - v0, v2 - v0
@@ -58,7 +62,7 @@ def crossings(x, tris, edges):
     v = f * np.einsum("ij,ij->i", d, q)
     tt = f * np.einsum("ij,ij->i", e2, q)
     hit = ok & (u >= 0) & (v >= 0) & (u + v <= 1) & (tt >= 0) & (tt <= 1)
-    return int(hit.sum()), list(zip(edges[e[hit]].tolist(), tris[t[hit]].tolist()))[:5]
+    return int(hit.sum()), list(zip(edges[e[hit]].tolist(), tris[t[hit]].tolist()))[:examples]
 
 
 def main():
