@@ -7,3 +7,6 @@ set_tests_properties(postprocess_scaling PROPERTIES PROCESSORS 2)
 # Contact counts of the output frames against the positions, and postprocess/contacts.py (tests/check_contacts.sh).
 clothsim_add_script_test(postprocess_contacts check_contacts.sh ${MPIEXEC_EXECUTABLE} ${CMAKE_CURRENT_BINARY_DIR}/postprocess_contacts)
 set_tests_properties(postprocess_contacts PROPERTIES TIMEOUT 120 PROCESSORS 2)
+
+# The performance benchmark's driver and report (jobs/bench.sh, jobs/bench_report.py, build/stream_triad) on a small sheet.
+clothsim_add_script_test(bench_driver check_bench.sh ${CMAKE_CURRENT_BINARY_DIR}/bench_driver)
