@@ -16,7 +16,7 @@ struct _n_ClothIntegrator {
   ClothCollision    collision; /* borrowed; NULL: no bodies */
   /* implicit only */
   Mat               A;
-  KSP               ksp, fallback_ksp; /* fallback_ksp: created when ksp's preconditioner first breaks down */
+  KSP               ksp, fallback_ksp; /* fallback_ksp: for the solves whose preconditioner breaks down */
   Vec               rhs, dv, dv_guess;
   PetscInt          pc_fallbacks;      /* solves redone with fallback_ksp */
 };
@@ -246,7 +246,8 @@ PetscErrorCode ClothIntegratorSetFromOptions(ClothIntegrator integ)
    solver (SolveImplicitSystem). Every -ksp_, -pc_, -fallback_ and -implicit_mat_type option overrides. */
 static PetscErrorCode ClothIntegratorSetUpImplicit(ClothIntegrator integ)
 {
-  PC pc;
+  PC  pc;
+  KSP fallback;
 
   PetscFunctionBeginUser;
   PetscCall(ClothCreateMatrix(integ->cloth, &integ->A));
@@ -260,6 +261,7 @@ static PetscErrorCode ClothIntegratorSetUpImplicit(ClothIntegrator integ)
   PetscCall(KSPSetTolerances(integ->ksp, PETSC_DEFAULT, 1e-50, PETSC_DEFAULT, 2000));
   PetscCall(KSPSetInitialGuessNonzero(integ->ksp, PETSC_TRUE)); /* dv of the last step: a good guess */
   PetscCall(KSPSetFromOptions(integ->ksp));
+  PetscCall(GetFallbackKSP(integ, &fallback)); /* now, so that -help lists its -fallback_ options */
   PetscCall(VecZeroEntries(integ->dv));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -379,7 +381,7 @@ PetscErrorCode ClothIntegratorView(ClothIntegrator integ, PetscViewer viewer)
     PetscCall(KSPView(integ->ksp, viewer));
     PetscCall(PetscViewerASCIIPopTab(viewer));
   }
-  if (integ->fallback_ksp) {
+  if (integ->pc_fallbacks) {
     PetscCall(PetscViewerASCIIPrintf(viewer, "Solves redone by the fallback solver after a preconditioner breakdown: %" PetscInt_FMT "\n", integ->pc_fallbacks));
     PetscCall(PetscViewerASCIIPushTab(viewer));
     PetscCall(KSPView(integ->fallback_ksp, viewer));
