@@ -60,6 +60,24 @@ def write_csv(path, rows):
             w.writerow({k: repr(v) if isinstance(v, float) else v for k, v in r.items()})
 
 
+def finish_axis(ax, ylabel, xlabel=None, title=None):
+    """Labels, legend and grid of one panel of a time-series figure."""
+    if xlabel:
+        ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3)
+    if title:
+        ax.set_title(title, fontsize=10)
+
+
+def save_figure(fig, out):
+    fig.tight_layout()
+    fig.savefig(out, dpi=100)
+    import matplotlib.pyplot as plt
+    plt.close(fig)
+
+
 def read_positions(path):
     """Final positions (N, 3) from a checkpoint, or from the last frame of an XDMF .h5 series."""
     with h5py.File(path, "r") as f:

@@ -26,7 +26,7 @@ import os
 
 import numpy as np
 
-from cloth_state import read_series, series_h5, write_csv
+from cloth_state import finish_axis, read_series, save_figure, series_h5, write_csv
 
 COUNTS = ("body_contacts", "self_contacts", "self_contact_particles")
 
@@ -58,19 +58,11 @@ def plot(rows, out, title):
     ax1.plot(t, [r["body_contacts"] for r in rows], "o-", ms=3, label="particles on a body")
     ax1.plot(t, [r["self_contact_particles"] for r in rows], "s-", ms=3, label="particles in cloth-cloth contact")
     ax1.plot(t, [r["self_contacts"] for r in rows], "^--", ms=3, label="cloth-cloth contacts (pairs)")
-    ax1.set_ylabel("count")
-    ax1.legend(fontsize=8)
-    ax1.grid(alpha=0.3)
-    ax1.set_title(title, fontsize=10)
+    finish_axis(ax1, "count", title=title)
     ax2.plot(t, 100 * np.array([r["max_strain"] for r in rows]), "o-", ms=3, label="largest link stretch")
     ax2.plot(t, 100 * np.array([r["mean_strain"] for r in rows]), "s-", ms=3, label="mean over particles of their largest")
-    ax2.set_xlabel("time, s")
-    ax2.set_ylabel("link strain, %")
-    ax2.legend(fontsize=8)
-    ax2.grid(alpha=0.3)
-    fig.tight_layout()
-    fig.savefig(out, dpi=100)
-    plt.close(fig)
+    finish_axis(ax2, "link strain, %", xlabel="time, s")
+    save_figure(fig, out)
 
 
 def report(rows):

@@ -30,7 +30,7 @@ import sys
 
 import numpy as np
 
-from cloth_state import read_series, series_h5, write_csv
+from cloth_state import finish_axis, read_series, save_figure, series_h5, write_csv
 
 
 def quad_areas(x, quads):
@@ -153,20 +153,12 @@ def plot(rows, log, out, title):
         tl = np.array(steps) * dt
         ax1.plot(tl, [log[s][2] for s in steps], "^-", ms=3, label="elastic (clothsim)")
         ax1.plot(tl, [log[s][3] - g0 for s in steps], "k--", lw=1, label=f"total (clothsim) - {g0:.4g} J")
-    ax1.set_ylabel("energy, J")
-    ax1.legend(fontsize=8)
-    ax1.grid(alpha=0.3)
-    ax1.set_title(title, fontsize=10)
+    finish_axis(ax1, "energy, J", title=title)
     ax2.plot(t, 100 * np.array([r["max_strain"] for r in rows]), "o-", ms=3, label="largest stretch")
     ax2.plot(t, 100 * np.array([r["min_strain"] for r in rows]), "s-", ms=3, label="largest compression")
     ax2.plot(t, 100 * np.array([r["mean_abs_strain"] for r in rows]), "-", label="mean |strain|")
-    ax2.set_xlabel("time, s")
-    ax2.set_ylabel("link strain, %")
-    ax2.legend(fontsize=8)
-    ax2.grid(alpha=0.3)
-    fig.tight_layout()
-    fig.savefig(out, dpi=100)
-    plt.close(fig)
+    finish_axis(ax2, "link strain, %", xlabel="time, s")
+    save_figure(fig, out)
 
 
 def main(argv=None):
