@@ -186,7 +186,7 @@ def cmd_report(a):
     import matplotlib.pyplot as plt
     rows = list(csv.DictReader(open(a.csv)))
     fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.2))
-    for (sim, integ, cpus), style in [(k, None) for k in sorted({(r["simulator"], r["integrator"], cpus_of(r)) for r in rows})]:
+    for sim, integ, cpus in sorted({(r["simulator"], r["integrator"], cpus_of(r)) for r in rows}):
         sel = sorted((r for r in rows if (r["simulator"], r["integrator"], cpus_of(r)) == (sim, integ, cpus)), key=lambda r: int(r["particles"]))
         for tag in sorted({r["tag"] for r in sel}):
             tsel = [r for r in sel if r["tag"] == tag]

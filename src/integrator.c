@@ -16,7 +16,7 @@ struct _n_ClothIntegrator {
   ClothCollision    collision; /* borrowed; NULL: no bodies */
   /* implicit only */
   Mat               A;
-  KSP               ksp, fallback_ksp; /* fallback_ksp: for the solves whose preconditioner breaks down */
+  KSP               ksp, fallback_ksp; /* fallback_ksp: redoes the solves whose preconditioner breaks down */
   Vec               rhs, dv, dv_guess;
   PetscInt          pc_fallbacks;      /* solves redone with fallback_ksp */
 };
@@ -114,24 +114,21 @@ static PetscErrorCode StepSymplectic(ClothIntegrator integ, PetscReal h, PetscBo
 
 /* The robust solver of the steps whose preconditioner breaks down, options prefix fallback_: CG + point-block
    Jacobi, or point Jacobi when the matrix type has no block-diagonal inverse (SBAIJ). */
-static PetscErrorCode GetFallbackKSP(ClothIntegrator integ, KSP *ksp)
+static PetscErrorCode CreateFallbackKSP(ClothIntegrator integ)
 {
   PC        pc;
   PetscBool sbaij;
 
   PetscFunctionBeginUser;
-  if (!integ->fallback_ksp) {
-    PetscCall(KSPCreate(PETSC_COMM_WORLD, &integ->fallback_ksp));
-    PetscCall(KSPSetOptionsPrefix(integ->fallback_ksp, "fallback_"));
-    PetscCall(KSPSetType(integ->fallback_ksp, KSPCG));
-    PetscCall(KSPGetPC(integ->fallback_ksp, &pc));
-    PetscCall(PetscObjectTypeCompareAny((PetscObject)integ->A, &sbaij, MATSBAIJ, MATSEQSBAIJ, MATMPISBAIJ, ""));
-    PetscCall(PCSetType(pc, sbaij ? PCJACOBI : PCPBJACOBI));
-    PetscCall(KSPSetTolerances(integ->fallback_ksp, PETSC_DEFAULT, 1e-50, PETSC_DEFAULT, 10000));
-    PetscCall(KSPSetInitialGuessNonzero(integ->fallback_ksp, PETSC_TRUE));
-    PetscCall(KSPSetFromOptions(integ->fallback_ksp));
-  }
-  *ksp = integ->fallback_ksp;
+  PetscCall(KSPCreate(PETSC_COMM_WORLD, &integ->fallback_ksp));
+  PetscCall(KSPSetOptionsPrefix(integ->fallback_ksp, "fallback_"));
+  PetscCall(KSPSetType(integ->fallback_ksp, KSPCG));
+  PetscCall(KSPGetPC(integ->fallback_ksp, &pc));
+  PetscCall(PetscObjectTypeCompareAny((PetscObject)integ->A, &sbaij, MATSBAIJ, MATSEQSBAIJ, MATMPISBAIJ, ""));
+  PetscCall(PCSetType(pc, sbaij ? PCJACOBI : PCPBJACOBI));
+  PetscCall(KSPSetTolerances(integ->fallback_ksp, PETSC_DEFAULT, 1e-50, PETSC_DEFAULT, 10000));
+  PetscCall(KSPSetInitialGuessNonzero(integ->fallback_ksp, PETSC_TRUE));
+  PetscCall(KSPSetFromOptions(integ->fallback_ksp));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -140,7 +137,7 @@ static PetscErrorCode GetFallbackKSP(ClothIntegrator integ, KSP *ksp)
    by the fallback solver rather than halved. */
 static PetscErrorCode SolveImplicitSystem(ClothIntegrator integ, KSPConvergedReason *reason, PetscInt *its)
 {
-  KSP      fallback = NULL;
+  KSP      fallback = integ->fallback_ksp;
   PetscInt fallback_its;
 
   PetscFunctionBeginUser;
@@ -152,7 +149,6 @@ static PetscErrorCode SolveImplicitSystem(ClothIntegrator integ, KSPConvergedRea
   PetscCall(KSPGetIterationNumber(integ->ksp, its));
   if (*reason == KSP_DIVERGED_INDEFINITE_PC || *reason == KSP_DIVERGED_PC_FAILED) {
     PetscCall(PetscInfo(NULL, "Preconditioner broke down (%s); solving again with the fallback solver\n", KSPConvergedReasons[*reason]));
-    PetscCall(GetFallbackKSP(integ, &fallback));
     PetscCall(VecCopy(integ->dv_guess, integ->dv));
     PetscCall(KSPSetOperators(fallback, integ->A, integ->A));
     PetscCall(KSPSolve(fallback, integ->rhs, integ->dv));
@@ -246,8 +242,7 @@ PetscErrorCode ClothIntegratorSetFromOptions(ClothIntegrator integ)
    solver (SolveImplicitSystem). Every -ksp_, -pc_, -fallback_ and -implicit_mat_type option overrides. */
 static PetscErrorCode ClothIntegratorSetUpImplicit(ClothIntegrator integ)
 {
-  PC  pc;
-  KSP fallback;
+  PC pc;
 
   PetscFunctionBeginUser;
   PetscCall(ClothCreateMatrix(integ->cloth, &integ->A));
@@ -261,7 +256,7 @@ static PetscErrorCode ClothIntegratorSetUpImplicit(ClothIntegrator integ)
   PetscCall(KSPSetTolerances(integ->ksp, PETSC_DEFAULT, 1e-50, PETSC_DEFAULT, 2000));
   PetscCall(KSPSetInitialGuessNonzero(integ->ksp, PETSC_TRUE)); /* dv of the last step: a good guess */
   PetscCall(KSPSetFromOptions(integ->ksp));
-  PetscCall(GetFallbackKSP(integ, &fallback)); /* now, so that -help lists its -fallback_ options */
+  PetscCall(CreateFallbackKSP(integ)); /* at set-up, so that -help lists its -fallback_ options */
   PetscCall(VecZeroEntries(integ->dv));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
