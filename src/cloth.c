@@ -13,6 +13,7 @@ PetscErrorCode ClothCreate(MPI_Comm comm, Scene scene, Cloth *cloth)
   c->scene          = scene;
   c->partition_type = CLOTH_PARTITION_METIS;
   c->gravity_scale  = 1.0;
+  c->friction_scale = 1.0;
   *cloth            = c;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -405,6 +406,20 @@ PetscErrorCode ClothSetGravityScale(Cloth cloth, PetscReal scale)
 {
   PetscFunctionBeginUser;
   cloth->gravity_scale = scale;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothSetFrictionScale(Cloth cloth, PetscReal scale)
+{
+  PetscFunctionBeginUser;
+  cloth->friction_scale = scale;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothGetFrictionScale(Cloth cloth, PetscReal *scale)
+{
+  PetscFunctionBeginUser;
+  *scale = cloth->friction_scale;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

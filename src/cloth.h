@@ -90,6 +90,9 @@ PetscErrorCode ClothComputeStrain(Cloth cloth, Vec position, Vec strain);
 PetscErrorCode ClothGetSeamLinks(Cloth cloth, PetscInt *n, ClothSeamLink **links, const PetscInt **model_index);
 /* Gravity is multiplied by scale (0 while seams are pulled together, 1 otherwise). */
 PetscErrorCode ClothSetGravityScale(Cloth cloth, PetscReal scale);
+/* Friction with bodies is multiplied by scale (sewing's pull_friction while seams are pulled, 1 otherwise). */
+PetscErrorCode ClothSetFrictionScale(Cloth cloth, PetscReal scale);
+PetscErrorCode ClothGetFrictionScale(Cloth cloth, PetscReal *scale);
 /* Positions of owned particles then ghosts (local numbering), ghosts refreshed first. Collective. */
 PetscErrorCode ClothGetLocalPositionArray(Cloth cloth, const PetscScalar **x);
 PetscErrorCode ClothRestoreLocalPositionArray(Cloth cloth, const PetscScalar **x);

@@ -29,6 +29,7 @@ struct _n_Cloth {
   ClothSeamLink     *seamlinks;            /* local particle indices; stiffness set by the sewing phases */
   PetscInt          *seamlink_model_index; /* index of each into model->seamlinks */
   PetscReal          gravity_scale;        /* 1, or 0 while seams are pulled together (sewing.h) */
+  PetscReal          friction_scale;       /* multiplies body friction: 1, or sewing's pull_friction while seams are pulled */
   PetscInt          *xadj, *adjncy; /* natural-order adjacency, kept for preallocation */
 
   Vec                position, velocity, work_force, work_kv;

@@ -84,7 +84,7 @@ static const char *const SceneBodyKeys[]   = {"name", "type", "center", "radius"
 static const char *const SceneFrictionKeys[] = {"static", "kinetic", NULL};
 static const char *const SceneSeamKeys[]       = {"name", "a", "b", "bend", NULL};
 static const char *const SceneSeamSideKeys[]   = {"piece", "side", "from", "to", NULL};
-static const char *const SceneSewingKeys[]     = {"pull_acceleration", "pull_radius", "sewn_stiffness", "tolerance", "max_time", NULL};
+static const char *const SceneSewingKeys[]     = {"pull_acceleration", "pull_radius", "sewn_stiffness", "tolerance", "max_time", "pull_friction", NULL};
 const char *const        ClothPieceSides[]     = {"bottom", "right", "top", "left", "ClothPieceSide", "CLOTH_SIDE_", NULL};
 static const char *const SceneSelfCollisionKeys[] = {"enabled", "thickness", "stiffness", "exclude_ring", "same_piece", NULL};
 /* YAML booleans, in the enum-list style of ReadChoice (index 0 = false, 1 = true). */
@@ -1169,6 +1169,7 @@ static PetscErrorCode SceneReadSewing(SceneReader *r, yaml_node_t *root, SceneSe
   sewing->sewn_stiffness    = 2000;
   sewing->tolerance         = 0.002;
   sewing->max_time          = 2.0;
+  sewing->pull_friction     = 1.0;
   PetscCall(SceneGetValue(r, root, "sewing", &map));
   if (!map) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(SceneExpectMap(r, map, "sewing", SceneSewingKeys, NULL));
@@ -1178,6 +1179,7 @@ static PetscErrorCode SceneReadSewing(SceneReader *r, yaml_node_t *root, SceneSe
   PetscCall(ReadReal(r, map, "sewn_stiffness", PETSC_FALSE, SCENE_REAL_POSITIVE, "N/m", &sewing->sewn_stiffness));
   PetscCall(ReadReal(r, map, "tolerance", PETSC_FALSE, SCENE_REAL_POSITIVE, "m", &sewing->tolerance));
   PetscCall(ReadReal(r, map, "max_time", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "s", &sewing->max_time));
+  PetscCall(ReadReal(r, map, "pull_friction", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "", &sewing->pull_friction));
   r->block[0] = 0;
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -139,6 +139,7 @@ typedef struct {
   PetscReal sewn_stiffness;    /* N/m: the spring that holds a sewn pair (default 2000) */
   PetscReal tolerance;         /* m: a pair closer than this is sewn (default 0.002) */
   PetscReal max_time;          /* s: gravity comes on after this much pulling even with pairs open (default 2) */
+  PetscReal pull_friction;     /* body friction is multiplied by this while pairs are pulled (default 1) */
 } SceneSewing;
 
 typedef struct _n_Scene *Scene;

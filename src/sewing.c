@@ -146,6 +146,7 @@ static PetscErrorCode ClothSewingApply(ClothSewing sewing)
     }
   }
   PetscCall(ClothSetGravityScale(sewing->cloth, sewing->phase == CLOTH_SEWING_PULL ? 0.0 : 1.0));
+  PetscCall(ClothSetFrictionScale(sewing->cloth, sewing->phase == CLOTH_SEWING_PULL ? sewing->params.pull_friction : 1.0));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

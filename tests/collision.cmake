@@ -39,3 +39,8 @@ add_test(NAME collision_mannequin_same_on_1_and_2_ranks
     ${CMAKE_BINARY_DIR}/test-output/mannequin_np2/checkpoint_000120.h5 --tolerance 1e-6)
 set_tests_properties(collision_mannequin_same_on_1_and_2_ranks PROPERTIES DEPENDS "collision_mannequin;collision_mannequin_np2")
 
+
+# Coulomb friction against a stiff tension: a strip on a table, over a frictionless rounded edge, stays at
+# 0.32 of the friction limit and slides off at 1.3 (tests/friction_strip.sh; about 5 s).
+clothsim_add_script_test(collision_friction_strip friction_strip.sh)
+set_tests_properties(collision_friction_strip PROPERTIES PROCESSORS 1)
