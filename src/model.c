@@ -2,6 +2,7 @@
 #include "model.h"
 #include "fabric.h"
 #include "pattern.h"
+#include "vec3.h"
 
 /* Everything needed while one piece's interactions are generated. */
 typedef struct {
@@ -184,6 +185,32 @@ static void WrapOntoCylinder(const ScenePiece *piece, PetscReal x[3])
   for (PetscInt k = 0; k < 3; k++) x[k] = c[k] + along * a[k] + r * (PetscCosReal(s / r) * normal[k] + PetscSinReal(s / r) * t[k]);
 }
 
+/* Rolls a flat placement onto the cone with apex A = wrap_point and axis a that touches its plane along the
+   generator g0 (a projected onto the plane; the half-angle alpha is a's angle with the plane). A point at
+   distance rho from A, at angle phi from g0 in the plane, goes to angle phi / sin(alpha) around the axis at
+   the same distance rho from the apex: the cone's development, so all lengths are kept. */
+static void WrapOntoCone(const ScenePiece *piece, PetscReal x[3])
+{
+  const PetscReal *a = piece->wrap_axis, *c = piece->wrap_point;
+  PetscReal        normal[3], g0[3], e1[3], e2[3], w[3], an = 0, sa, ca, rho, phi, theta, norm = 0;
+
+  Cross3(piece->u_axis, piece->v_axis, normal);
+  for (PetscInt k = 0; k < 3; k++) an += a[k] * normal[k];
+  for (PetscInt k = 0; k < 3; k++) g0[k] = a[k] - an * normal[k];
+  for (PetscInt k = 0; k < 3; k++) norm += g0[k] * g0[k];
+  norm = PetscSqrtReal(norm);
+  for (PetscInt k = 0; k < 3; k++) g0[k] /= norm;
+  ca = Dot3(a, g0);
+  sa = PetscSqrtReal(PetscMax(0.0, 1 - ca * ca));
+  for (PetscInt k = 0; k < 3; k++) e1[k] = (g0[k] - ca * a[k]) / sa; /* from the axis towards the touching line */
+  Cross3(a, e1, e2);                                                  /* lies in the plane, across g0 */
+  Sub3(x, c, w);
+  rho   = PetscSqrtReal(Dot3(w, w));
+  phi   = PetscAtan2Real(Dot3(w, e2), Dot3(w, g0));
+  theta = phi / sa;
+  for (PetscInt k = 0; k < 3; k++) x[k] = c[k] + rho * (ca * a[k] + sa * (PetscCosReal(theta) * e1[k] + PetscSinReal(theta) * e2[k]));
+}
+
 /* Particle positions (flat pattern placed in 3D), masses and pins of one piece. */
 static PetscErrorCode AddPieceParticles(ClothModel model, const PieceContext *pc)
 {
@@ -195,7 +222,8 @@ static PetscErrorCode AddPieceParticles(ClothModel model, const PieceContext *pc
   for (PetscInt p = 0; p < n; p++) {
     PetscReal *x = &model->position[3 * (pc->offset + p)];
     for (PetscInt c = 0; c < 3; c++) x[c] = piece->origin[c] + pc->uv[2 * p] * piece->u_axis[c] + pc->uv[2 * p + 1] * piece->v_axis[c];
-    if (piece->wrapped) WrapOntoCylinder(piece, x);
+    if (piece->wrapped && piece->wrap_cone) WrapOntoCone(piece, x);
+    else if (piece->wrapped) WrapOntoCylinder(piece, x);
     model->mass[pc->offset + p] = 0;
   }
   for (PetscInt j = 0; j + 1 < piece->nv; j++)

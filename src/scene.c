@@ -73,7 +73,7 @@ static const char *const SceneIntegrators[] = {"explicit", "symplectic", "implic
 static const char *const SceneTopKeys[]    = {"name", "gravity", "fabrics", "pieces", "run", "bodies", "self_collision", "seams", "sewing", NULL};
 static const char *const SceneFabricKeys[] = {"density", "stretch", "stretch_warp", "stretch_weft", "shear", "shear_model", "bend", "bend_warp", "bend_weft", "bend_model", "damping", "repulsion", "repulsion_stiffness", "preset", "kes", "stretch_knee", "stretch_knee_warp", "stretch_knee_weft", "stretch_stiff", "stretch_stiff_warp", "stretch_stiff_weft", NULL};
 static const char *const ScenePieceKeys[]  = {"name", "fabric", "grid", "size", "boundaries", "origin", "u_axis", "v_axis", "mass", "pins", "pin_disc", "pin_box", "wrap", NULL};
-static const char *const SceneWrapKeys[]     = {"axis_point", "axis", NULL};
+static const char *const SceneWrapKeys[]     = {"axis_point", "apex", "axis", NULL};
 static const char *const SceneBoundaryKeys[] = {"bottom", "right", "top", "left", "nodes", NULL}; /* bottom, right, top, left: the order of ScenePiece.boundary_* */
 static const char *const SceneKESKeys[]      = {"W", "B_warp", "B_weft", "G", "EMT_warp", "EMT_weft", "LT_warp", "LT_weft", NULL};
 static const char *const SceneArcKeys[]      = {"center", "radius", "from", "to", "segments", NULL};
@@ -885,17 +885,25 @@ static PetscErrorCode ReadGridAndSize(SceneReader *r, yaml_node_t *map, ScenePie
 
 /* wrap: {axis_point: [x, y, z], axis: [ax, ay, az]}: the piece, placed flat by origin/u_axis/v_axis as a
    tangent plane, is rolled onto the cylinder around that axis that touches it (model.c). The axis must be
-   parallel to the piece's plane and must not pass through it. */
+   parallel to the piece's plane and must not pass through it.
+   wrap: {apex: [x, y, z], axis: [ax, ay, az]}: rolled onto the cone with that apex and axis (pointing from
+   the apex into the cone) that touches the plane: the apex must lie in the plane, and the cone's half-angle
+   is the axis's angle with the plane (strictly between 0 and 90 degrees). A flared skirt panel is a piece of
+   a cone's development, so it is placed without distortion. */
 static PetscErrorCode ReadWrap(SceneReader *r, yaml_node_t *map, ScenePiece *piece)
 {
-  yaml_node_t *wrap;
-  PetscReal    normal[3], along;
+  yaml_node_t *wrap, *point, *apex;
+  PetscReal    normal[3], along, offset = 0;
 
   PetscFunctionBeginUser;
   PetscCall(SceneGetValue(r, map, "wrap", &wrap));
   if (!wrap) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(SceneExpectMap(r, wrap, "wrap", SceneWrapKeys, NULL));
-  PetscCall(ReadRealList(r, wrap, "axis_point", PETSC_TRUE, 3, SCENE_REAL_ANY, "m", piece->wrap_point));
+  PetscCall(SceneGetValue(r, wrap, "axis_point", &point));
+  PetscCall(SceneGetValue(r, wrap, "apex", &apex));
+  if ((point == NULL) == (apex == NULL)) PetscCall(SceneFailValue(r, wrap, "wrap", "either axis_point (a cylinder) or apex (a cone)"));
+  piece->wrap_cone = apex ? PETSC_TRUE : PETSC_FALSE;
+  PetscCall(ReadRealList(r, wrap, apex ? "apex" : "axis_point", PETSC_TRUE, 3, SCENE_REAL_ANY, "m", piece->wrap_point));
   piece->wrap_axis[0] = piece->wrap_axis[2] = 0;
   piece->wrap_axis[1] = 1;
   PetscCall(ReadDirection(r, wrap, "axis", piece->wrap_axis));
@@ -903,10 +911,14 @@ static PetscErrorCode ReadWrap(SceneReader *r, yaml_node_t *map, ScenePiece *pie
   normal[1] = piece->u_axis[2] * piece->v_axis[0] - piece->u_axis[0] * piece->v_axis[2];
   normal[2] = piece->u_axis[0] * piece->v_axis[1] - piece->u_axis[1] * piece->v_axis[0];
   along     = normal[0] * piece->wrap_axis[0] + normal[1] * piece->wrap_axis[1] + normal[2] * piece->wrap_axis[2];
-  if (PetscAbsReal(along) > SCENE_ORTHOGONALITY_TOL) PetscCall(SceneFailValue(r, wrap, "wrap", "an axis parallel to the piece's plane (u_axis, v_axis)"));
-  along = 0;
-  for (PetscInt c = 0; c < 3; c++) along += normal[c] * (piece->origin[c] - piece->wrap_point[c]);
-  if (PetscAbsReal(along) < 1e-6) PetscCall(SceneFailValue(r, wrap, "wrap", "an axis_point off the piece's plane (the cylinder's radius is its distance from the plane)"));
+  for (PetscInt c = 0; c < 3; c++) offset += normal[c] * (piece->origin[c] - piece->wrap_point[c]);
+  if (piece->wrap_cone) {
+    if (PetscAbsReal(offset) > 1e-6) PetscCall(SceneFailValue(r, wrap, "wrap", "an apex in the piece's plane (the cone touches the plane along a line through its apex)"));
+    if (PetscAbsReal(along) < SCENE_ORTHOGONALITY_TOL || PetscAbsReal(along) > 1 - SCENE_ORTHOGONALITY_TOL) PetscCall(SceneFailValue(r, wrap, "wrap", "an axis at an angle strictly between 0 and 90 degrees to the piece's plane (the cone's half-angle)"));
+  } else {
+    if (PetscAbsReal(along) > SCENE_ORTHOGONALITY_TOL) PetscCall(SceneFailValue(r, wrap, "wrap", "an axis parallel to the piece's plane (u_axis, v_axis)"));
+    if (PetscAbsReal(offset) < 1e-6) PetscCall(SceneFailValue(r, wrap, "wrap", "an axis_point off the piece's plane (the cylinder's radius is its distance from the plane)"));
+  }
   piece->wrapped = PETSC_TRUE;
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -69,6 +69,7 @@ typedef struct {
   PetscBool             wrapped;             /* wrap: the flat placement is rolled onto a cylinder (arrangement around a body) */
   PetscReal             wrap_point[3];       /* a point on the cylinder's axis, m */
   PetscReal             wrap_axis[3];        /* the axis direction (unit) */
+  PetscBool             wrap_cone;           /* wrap onto a cone with its apex at wrap_point instead of a cylinder */
 } ScenePiece;
 
 typedef struct {

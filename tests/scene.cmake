@@ -22,3 +22,7 @@ list(APPEND scene_error_tests scene_bad_negative_shear_2ranks scene_bad_missing_
 set_property(TEST ${scene_error_tests} APPEND PROPERTY ENVIRONMENT "MPIEXEC=${MPIEXEC_EXECUTABLE}")
 set_tests_properties(${scene_error_tests} PROPERTIES TIMEOUT 150)
 set_tests_properties(scene_bad_negative_shear_2ranks scene_bad_missing_file_2ranks PROPERTIES PROCESSORS 2)
+
+# A piece rolled onto a cone (wrap: {apex, axis}) sits where the cone's development puts it (tests/cone_wrap.sh).
+clothsim_add_script_test(scene_cone_wrap cone_wrap.sh)
+set_tests_properties(scene_cone_wrap PROPERTIES PROCESSORS 1)
