@@ -219,7 +219,7 @@ PetscErrorCode BodyIsInside(Body body, const PetscReal x[3], PetscBool *inside)
 }
 
 /* The point of triangle (a, b, c) nearest to x (Ericson, Real-Time Collision Detection, 5.1.5). */
-static void TriangleNearestPoint(const PetscReal x[3], const PetscReal a[3], const PetscReal b[3], const PetscReal c[3], PetscReal q[3])
+void BodyTriangleNearestPoint(const PetscReal x[3], const PetscReal a[3], const PetscReal b[3], const PetscReal c[3], PetscReal q[3])
 {
   PetscReal ab[3], ac[3], ap[3], bp[3], cp[3], d1, d2, d3, d4, d5, d6, va, vb, vc, v, w, denom;
 
@@ -285,7 +285,7 @@ PetscErrorCode BodyNearestSurfacePoint(Body body, const PetscReal x[3], PetscRea
     PetscReal q[3], r[3];
 
     if (Dot3(&body->face_normal[3 * t], &body->face_normal[3 * t]) == 0) continue; /* degenerate */
-    TriangleNearestPoint(x, &m->coords[3 * m->tris[3 * t]], &m->coords[3 * m->tris[3 * t + 1]], &m->coords[3 * m->tris[3 * t + 2]], q);
+    BodyTriangleNearestPoint(x, &m->coords[3 * m->tris[3 * t]], &m->coords[3 * m->tris[3 * t + 1]], &m->coords[3 * m->tris[3 * t + 2]], q);
     Sub3(q, x, r);
     if (Dot3(r, r) < best) {
       best = Dot3(r, r);

@@ -38,7 +38,8 @@ enum { CONTACT_STATE_FREE, CONTACT_STATE_TOUCHING, CONTACT_STATE_HELD };
 
 /* A contact kept from one step to the next (meshes need the plane of the triangle that was hit). */
 typedef struct {
-  PetscInt  body; /* -1: none */
+  PetscInt  body;     /* -1: none */
+  PetscInt  triangle; /* meshes: the triangle that was hit */
   PetscReal normal[3], anchor[3];
 } HeldContact;
 
@@ -335,8 +336,12 @@ static PetscErrorCode UpdateGrids(ClothCollision col, const PetscScalar *xp, con
 /* Response                                                                                                    */
 
 /* Removes the velocity into the body and applies Coulomb friction with normal velocity change
-   max(removed normal velocity, dvn_held) (dvn_held: what the constraint cancels, h |F_n| / m). */
-static void RespondVelocity(const SceneBody *d, PetscReal friction_scale, const PetscReal n[3], PetscReal dvn_held, PetscScalar v[3])
+   max(removed normal velocity, dvn_held) (dvn_held: what the constraint cancels, h |F_n| / m).
+   Static friction must resist, over the next step, both the tangential velocity and the tangential force
+   (dvt_force = h |F_t| / m): the implicit solve turns a stiff link's pull into a velocity of only
+   stretch / h, so comparing that velocity alone with the friction budget kept particles stuck against
+   tensions hundreds of times mu |F_n|, and locked single links of a garment at 20-30 % strain. */
+static void RespondVelocity(const SceneBody *d, PetscReal friction_scale, const PetscReal n[3], PetscReal dvn_held, PetscReal dvt_force, PetscScalar v[3])
 {
   PetscReal vn = Dot3(v, n), dvn = 0, vt[3], vt_norm;
 
@@ -348,9 +353,9 @@ static void RespondVelocity(const SceneBody *d, PetscReal friction_scale, const 
   dvn = PetscMax(dvn, dvn_held);
   for (PetscInt k = 0; k < 3; k++) vt[k] = v[k] - vn * n[k];
   vt_norm = PetscSqrtReal(Dot3(vt, vt));
-  if (vt_norm <= friction_scale * d->friction_static * dvn) {
+  if (PetscMax(vt_norm, dvt_force) <= friction_scale * d->friction_static * dvn) {
     for (PetscInt k = 0; k < 3; k++) v[k] = vn * n[k];
-  } else {
+  } else if (vt_norm > 0) {
     const PetscReal scale = PetscMax(0.0, 1 - friction_scale * d->friction_kinetic * dvn / vt_norm);
     for (PetscInt k = 0; k < 3; k++) v[k] = vn * n[k] + scale * vt[k];
   }
@@ -392,7 +397,8 @@ static PetscErrorCode ContactMesh(ClothCollision col, PetscInt b, const PetscRea
   }
   if (hit.triangle < 0) PetscFunctionReturn(PETSC_SUCCESS);
   col->local.crossings++;
-  contact->body = b;
+  contact->body     = b;
+  contact->triangle = hit.triangle;
   for (PetscInt k = 0; k < 3; k++) {
     contact->normal[k] = cm->face_normal[3 * hit.triangle + k];
     contact->anchor[k] = hit.point[k];
@@ -422,18 +428,26 @@ static PetscErrorCode ContactAnalytic(ClothCollision col, PetscInt b, PetscScala
 }
 
 /* A mesh contact held from the last step, without a new crossing: kept while the particle stays within the
-   slop of the plane of the triangle it hit (pushed back to the thickness if it sank below it). */
+   slop of the triangle it hit (pushed back to the thickness if it sank below its plane). Near the triangle,
+   not only its plane: a particle that slid past the edge of a table or a shoulder was otherwise held on
+   the plane's extension, a ledge that is not there, and friction on it stopped a hanging strip sliding off. */
 static PetscErrorCode KeepHeldMeshContact(ClothCollision col, const HeldContact *held, PetscScalar x[3], HeldContact *contact)
 {
-  const SceneBody *d;
-  PetscReal        r[3], dist;
+  const SceneBody     *d;
+  const MeshTriangles *m;
+  const PetscInt      *tri;
+  PetscReal            r[3], q[3], dist;
 
   PetscFunctionBeginUser;
   if (held->body < 0 || !col->meshes[held->body].mesh) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(BodyGetDescription(col->bodies[held->body], &d));
+  m   = col->meshes[held->body].mesh;
+  tri = &m->tris[3 * held->triangle];
+  BodyTriangleNearestPoint(x, &m->coords[3 * tri[0]], &m->coords[3 * tri[1]], &m->coords[3 * tri[2]], q);
+  Sub3(x, q, r);
+  if (Dot3(r, r) >= PetscSqr(d->thickness + ContactSlop(d))) PetscFunctionReturn(PETSC_SUCCESS);
   for (PetscInt k = 0; k < 3; k++) r[k] = x[k] - held->anchor[k];
   dist = Dot3(r, held->normal);
-  if (dist >= d->thickness + ContactSlop(d)) PetscFunctionReturn(PETSC_SUCCESS);
   if (dist < d->thickness)
     for (PetscInt k = 0; k < 3; k++) x[k] += (d->thickness - dist) * held->normal[k];
   *contact = *held;
@@ -463,9 +477,9 @@ static PetscErrorCode KeepOutside(ClothCollision col, const PetscReal p0[3], Pet
 /* One owned particle: detection against every body, response, and whether it is held for the next step. */
 static PetscErrorCode ContactParticle(ClothCollision col, PetscInt i, PetscReal h, PetscReal mass, const PetscScalar p0[3], const PetscScalar f[3], PetscScalar x[3], PetscScalar v[3], PetscScalar normal[3])
 {
-  HeldContact      contact = {-1, {0, 0, 0}, {0, 0, 0}};
+  HeldContact      contact = {-1, -1, {0, 0, 0}, {0, 0, 0}};
   const SceneBody *d;
-  PetscReal        fn, dv[3], dvn, friction_scale; /* friction_scale: sewing's pull_friction while pulling */
+  PetscReal        fn, ft[3], dv[3], dvn, friction_scale;
 
   PetscFunctionBeginUser;
   for (PetscInt b = 0; b < col->nbodies; b++) {
@@ -483,9 +497,10 @@ static PetscErrorCode ContactParticle(ClothCollision col, PetscInt i, PetscReal 
   col->state[i] = CONTACT_STATE_TOUCHING;
   PetscCall(BodyGetDescription(col->bodies[contact.body], &d));
   fn = Dot3(f, contact.normal);
+  for (PetscInt k = 0; k < 3; k++) ft[k] = f[k] - fn * contact.normal[k];
   for (PetscInt k = 0; k < 3; k++) dv[k] = -v[k];
   PetscCall(ClothGetFrictionScale(col->cloth, &friction_scale));
-  RespondVelocity(d, friction_scale, contact.normal, h * PetscMax(0.0, -fn) / mass, v);
+  RespondVelocity(d, friction_scale, contact.normal, h * PetscMax(0.0, -fn) / mass, h * PetscSqrtReal(Dot3(ft, ft)) / mass, v);
   /* The step moved the particle by h v_{n+1} (both Euler forms that hold contacts do): redo the tangential
      part with the velocity friction left, or a stuck particle would still creep by h^2 a_t every step. */
   for (PetscInt k = 0; k < 3; k++) dv[k] += v[k];
