@@ -15,6 +15,7 @@ struct _n_ClothSewing {
   PetscInt        *sewn;            /* per model seam link: 1 once sewn; the same on every rank */
   PetscInt        *closed;          /* work: links this rank found closed in the last step */
   uint64_t        *near;            /* per particle (natural): bit s set within SEAM_BAND rows of seam s */
+  uint64_t        *near_joined;     /* per particle: near, plus every seam sharing a particle with one of those */
   PetscInt        *partner_offset;  /* CSR per particle (natural): the particles a seam link joins it to */
   PetscInt        *partner;
   PetscReal        max_time;
@@ -39,6 +40,29 @@ static PetscErrorCode ClothSewingMarkSeamBands(ClothSewing s, Scene scene, Cloth
             if (i + di >= 0 && i + di < nu && j + dj >= 0 && j + dj < nv) s->near[off + (j + dj) * nu + i + di] |= (uint64_t)1 << model->seamlinks[l].seam;
       }
     }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* near_joined: where seams meet (a waist corner joins two side seams and the waist seam), the four corners
+   must come together although no one seam holds two diagonal ones, so while pulling a particle near seam s
+   does not repel one near a seam that shares a particle with s. */
+static PetscErrorCode ClothSewingMarkJoinedBands(ClothSewing s, ClothModel model)
+{
+  uint64_t *seams_of, joined[64];
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscCalloc1(model->nparticles, &seams_of));
+  for (PetscInt l = 0; l < model->nseamlinks; l++)
+    for (PetscInt k = 0; k < model->seamlinks[l].np; k++) seams_of[model->seamlinks[l].p[k]] |= (uint64_t)1 << model->seamlinks[l].seam;
+  for (PetscInt b = 0; b < 64; b++) joined[b] = (uint64_t)1 << b;
+  for (PetscInt g = 0; g < model->nparticles; g++)
+    for (PetscInt b = 0; b < 64; b++)
+      if (seams_of[g] >> b & 1) joined[b] |= seams_of[g];
+  PetscCall(PetscCalloc1(model->nparticles, &s->near_joined));
+  for (PetscInt g = 0; g < model->nparticles; g++)
+    for (PetscInt b = 0; b < 64; b++)
+      if (s->near[g] >> b & 1) s->near_joined[g] |= joined[b];
+  PetscCall(PetscFree(seams_of));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -84,7 +108,7 @@ PetscErrorCode ClothSewingExcludeContact(void *ctx, PetscInt a, PetscInt b, Pets
 
   PetscFunctionBeginUser;
   if (s->phase == CLOTH_SEWING_PULL) {
-    *excluded = (s->near[a] & s->near[b]) ? PETSC_TRUE : PETSC_FALSE;
+    *excluded = (s->near[a] & s->near_joined[b]) ? PETSC_TRUE : PETSC_FALSE;
     PetscFunctionReturn(PETSC_SUCCESS);
   }
   *excluded = ClothSewingArePartners(s, a, b);
@@ -108,6 +132,7 @@ PetscErrorCode ClothSewingCreate(Cloth cloth, Scene scene, ClothSewing *sewing)
   s->max_time = scene->sewing.max_time;
   PetscCall(PetscCalloc2(s->nlinks, &s->sewn, s->nlinks, &s->closed));
   PetscCall(ClothSewingMarkSeamBands(s, scene, model));
+  PetscCall(ClothSewingMarkJoinedBands(s, model));
   PetscCall(ClothSewingBuildPartners(s, model));
   *sewing = s;
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -316,6 +341,7 @@ PetscErrorCode ClothSewingDestroy(ClothSewing *sewing)
   if (!*sewing) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(PetscFree2((*sewing)->sewn, (*sewing)->closed));
   PetscCall(PetscFree((*sewing)->near));
+  PetscCall(PetscFree((*sewing)->near_joined));
   PetscCall(PetscFree((*sewing)->partner_offset));
   PetscCall(PetscFree((*sewing)->partner));
   PetscCall(PetscFree(*sewing));
