@@ -49,6 +49,7 @@ struct _n_ClothCollision {
   Scene                scene;
   ClothCollisionSearch search;
   PetscReal            cell_size, margin;
+  PetscReal            friction_scale; /* the cloth's, read once per ClothCollisionApply */
   PetscBool            verify, view, setup;
   PetscInt             nbodies;
   Body                *bodies;
@@ -479,7 +480,7 @@ static PetscErrorCode ContactParticle(ClothCollision col, PetscInt i, PetscReal 
 {
   HeldContact      contact = {-1, -1, {0, 0, 0}, {0, 0, 0}};
   const SceneBody *d;
-  PetscReal        fn, ft[3], dv[3], dvn, friction_scale;
+  PetscReal        fn, ft[3], dv[3], dvn;
 
   PetscFunctionBeginUser;
   for (PetscInt b = 0; b < col->nbodies; b++) {
@@ -499,8 +500,7 @@ static PetscErrorCode ContactParticle(ClothCollision col, PetscInt i, PetscReal 
   fn = Dot3(f, contact.normal);
   for (PetscInt k = 0; k < 3; k++) ft[k] = f[k] - fn * contact.normal[k];
   for (PetscInt k = 0; k < 3; k++) dv[k] = -v[k];
-  PetscCall(ClothGetFrictionScale(col->cloth, &friction_scale));
-  RespondVelocity(d, friction_scale, contact.normal, h * PetscMax(0.0, -fn) / mass, h * PetscSqrtReal(Dot3(ft, ft)) / mass, v);
+  RespondVelocity(d, col->friction_scale, contact.normal, h * PetscMax(0.0, -fn) / mass, h * PetscSqrtReal(Dot3(ft, ft)) / mass, v);
   /* The step moved the particle by h v_{n+1} (both Euler forms that hold contacts do): redo the tangential
      part with the velocity friction left, or a stuck particle would still creep by h^2 a_t every step. */
   for (PetscInt k = 0; k < 3; k++) dv[k] += v[k];
@@ -692,6 +692,7 @@ PetscErrorCode ClothCollisionApply(ClothCollision col, Vec previous, PetscReal h
   PetscCall(VecGetArray(normals, &na));
   col->local.contacts = col->local.held = col->local.crossings = col->local.verified = col->local.fallbacks = 0;
   col->local.triangle_tests                                                                                 = 0;
+  PetscCall(ClothGetFrictionScale(col->cloth, &col->friction_scale));
   if (col->search == CLOTH_COLLISION_SEARCH_GRID) PetscCall(UpdateGrids(col, xp, xa, nlocal));
   for (PetscInt i = 0; i < nlocal; i++) {
     if (fixed[i]) continue;
