@@ -357,7 +357,7 @@ static void RespondVelocity(const SceneBody *d, PetscReal friction_scale, const 
   if (PetscMax(vt_norm, dvt_force) <= friction_scale * d->friction_static * dvn) {
     for (PetscInt k = 0; k < 3; k++) v[k] = vn * n[k];
   } else if (vt_norm > 0) {
-    const PetscReal scale = PetscMax(0.0, 1 - friction_scale * d->friction_kinetic * dvn / vt_norm);
+    const PetscReal scale = PetscMax(0.0, 1 - friction_scale * d->friction_kinetic * dvn / PetscMax(vt_norm, dvt_force));
     for (PetscInt k = 0; k < 3; k++) v[k] = vn * n[k] + scale * vt[k];
   }
 }
