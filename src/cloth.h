@@ -63,13 +63,18 @@ PetscErrorCode ClothGetSelfContact(Cloth cloth, ClothSelfContact *sc);
    nonzero pattern of the interactions, preallocated. */
 PetscErrorCode ClothCreateMatrix(Cloth cloth, Mat *A);
 /* Zeroes the constrained components of a vector of per-particle 3-vectors (v <- S v). Per particle,
-   S = 0 when pinned, S = I - n n^T when held against a body with unit normal n (see
+   S = 0 when pinned or stuck, S = I - n n^T when held against a body with unit normal n (see
    ClothGetContactNormals), S = I when free. */
 PetscErrorCode ClothApplyConstraints(Cloth cloth, Vec v);
-/* The contact normals (a ghosted Vec with the state's layout, borrowed; created zero on first call): the
-   caller writes the owned entries (a unit normal, or 0 for no contact); the ghosts are refreshed by every
-   use. Collective on the first call. */
+/* The contact constraints (a ghosted Vec with the state's layout, borrowed; created zero on first call): the
+   caller writes the owned entries, per particle 0 (free), a unit normal n (held on a body, sliding along it)
+   or CLOTH_CONTACT_STUCK n (held and stuck by static friction: all of its motion is constrained); the
+   ghosts are refreshed by every use. Collective on the first call. */
 PetscErrorCode ClothGetContactNormals(Cloth cloth, Vec *normals);
+#define CLOTH_CONTACT_STUCK 2.0
+/* One particle's filter S (row-major 3x3) from its entry c of the contact constraints (NULL: free) and
+   whether it is pinned; returns whether S differs from I. */
+PetscBool ClothContactFilter(const PetscScalar *c, PetscBool pinned, PetscReal S[9]);
 PetscErrorCode ClothComputeEnergy(Cloth cloth, Vec position, Vec velocity, ClothEnergy *energy);
 
 /* Natural-order Vecs (PETSc's default contiguous layout, block size 3) for files. */

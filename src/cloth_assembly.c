@@ -64,13 +64,19 @@ static PetscErrorCode EvaluateAngle(const ClothAngle *angle, const PetscScalar *
 
 /* The constraint filter of local particle i (Baraff & Witkin 1998): S = 0 when pinned, I - n n^T when held
    against a body with unit normal n, I when free. Returns whether S differs from I. */
-static PetscBool ConstraintFilter(Cloth cloth, const PetscScalar *normal, PetscInt i, PetscReal S[9])
+PetscBool ClothContactFilter(const PetscScalar *c, PetscBool pinned, PetscReal S[9])
 {
-  const PetscScalar *n = normal ? &normal[3 * i] : NULL;
+  const PetscReal c2    = c ? PetscRealPart(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) : 0.0;
+  const PetscBool stuck = c2 > 1.5 ? PETSC_TRUE : PETSC_FALSE; /* |c| = CLOTH_CONTACT_STUCK, not 1 */
 
   for (PetscInt r = 0; r < 3; r++)
-    for (PetscInt c = 0; c < 3; c++) S[3 * r + c] = cloth->fixed[i] ? 0.0 : (r == c ? 1.0 : 0.0) - (n ? n[r] * n[c] : 0.0);
-  return (cloth->fixed[i] || (n && (n[0] != 0 || n[1] != 0 || n[2] != 0))) ? PETSC_TRUE : PETSC_FALSE;
+    for (PetscInt k = 0; k < 3; k++) S[3 * r + k] = (pinned || stuck) ? 0.0 : (r == k ? 1.0 : 0.0) - (c2 > 0 ? PetscRealPart(c[r] * c[k]) : 0.0);
+  return (pinned || c2 > 0) ? PETSC_TRUE : PETSC_FALSE;
+}
+
+static PetscBool ConstraintFilter(Cloth cloth, const PetscScalar *normal, PetscInt i, PetscReal S[9])
+{
+  return ClothContactFilter(normal ? &normal[3 * i] : NULL, cloth->fixed[i], S);
 }
 
 /* H (n x n, row-major, 3x3 blocks) <- h2 S_a H_ab S_b for every block: the filtered element stiffness. Written

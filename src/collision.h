@@ -58,6 +58,10 @@ PetscErrorCode ClothCollisionGetBodies(ClothCollision collision, PetscInt *nbodi
 /* Detects and resolves the contacts of the step that went from previous (the positions before the step) to
    the cloth's current state, h seconds later; sets the contact constraints for the next step. Collective. */
 PetscErrorCode ClothCollisionApply(ClothCollision collision, Vec previous, PetscReal h);
+/* After a restart has set the cloth's state and contact constraints (ClothGetContactNormals) from a
+   checkpoint: finds again the mesh triangle each held particle was held on, so that the run continues as
+   it would have without the restart. Needs ClothCollisionSetUp. Not collective. */
+PetscErrorCode ClothCollisionRestoreHeldContacts(ClothCollision collision);
 PetscErrorCode ClothCollisionGetStats(ClothCollision collision, ClothCollisionStats *stats);
 /* Per particle, in natural order (field: one entry per particle, a Vec like ClothCreateStrainVec's), the
    contact state left by the last ClothCollisionApply: 0 free, 1 in contact with a body (corrected onto its

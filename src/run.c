@@ -208,6 +208,7 @@ static PetscErrorCode ClothRunRestore(ClothRun run)
   if (run->natural_contact && fields[3].found) {
     PetscCall(ClothGetContactNormals(run->cloth, &normals));
     PetscCall(ClothScatterToNatural(run->cloth, normals, run->natural_contact, SCATTER_REVERSE));
+    PetscCall(ClothCollisionRestoreHeldContacts(run->collision));
   }
   run->step = (PetscInt)info.step;
   run->time = info.time;

@@ -941,15 +941,11 @@ static PetscErrorCode RepulsionEvaluate(ClothSelfContact sc, const PetscReal r[3
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* The constraint filter of a particle, as in the rest of the implicit system (cloth.h,
-   ClothApplyConstraints): S = 0 when pinned, I - b b^T when a body holds it with unit normal b (b
-   NULL or zero: free), I otherwise. */
+/* The constraint filter of a particle, as in the rest of the implicit system (ClothContactFilter, from its
+   body contact constraint b; NULL: free). */
 static void ParticleFilter(ClothSelfContact sc, PetscInt natural, const PetscScalar *b, PetscReal S[9])
 {
-  const PetscBool pinned = sc->cloth->model->pinned[natural];
-
-  for (PetscInt r = 0; r < 3; r++)
-    for (PetscInt c = 0; c < 3; c++) S[3 * r + c] = pinned ? 0.0 : (r == c ? 1.0 : 0.0) - (b ? PetscRealPart(b[r] * b[c]) : 0.0);
+  (void)ClothContactFilter(b, sc->cloth->model->pinned[natural], S);
 }
 
 /* The body-contact normals of this evaluation: owned part and remote copies (NULL when no body). */

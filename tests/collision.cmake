@@ -21,30 +21,38 @@ clothsim_add_mpi_test(collision_sphere_rest 1 $<TARGET_FILE:test_run_to_rest>
 
 # Mannequin: a 33 x 33 sheet dropped on the shoulders (tests/data/mannequin_shoulders.yaml, 0.5 s, 120 steps).
 # On 1 rank every segment searched with the cell grid is searched again by brute force over all 26,756 triangles
-# (-collision_verify: any difference in the triangle hit or its parameter stops the run; measured: 6454 crossings
-# agreed); at the end no particle is inside the body by the winding-number test (measured: 0; 30 particles
-# start inside the neck and are pushed out; 77 are in contact at the end).
+# (-collision_verify: any difference in the triangle hit or its parameter stops the run; measured: 162 crossings
+# agreed, 6454 before particles stuck by static friction were held still in the solve instead of crossing back
+# every step); at the end no particle is inside the body by the winding-number test (measured: 0; 30 particles
+# start inside the neck and are pushed out; 63 are in contact at the end).
 clothsim_add_mpi_test(collision_mannequin 1 $<TARGET_FILE:test_collision>
   -scene tests/data/mannequin_shoulders.yaml -collision_verify -progress_seconds 100
-  -expect_inside_at_most 0 -expect_verified_at_least 500 -expect_contacts_at_least 30
+  -expect_inside_at_most 0 -expect_verified_at_least 100 -expect_contacts_at_least 30
   -output_dir ${CMAKE_BINARY_DIR}/test-output/mannequin_np1)
-# The same on 1 and 2 ranks, on a sheet dropped on one shoulder (tests/data/mannequin_shoulder.yaml: the sheet
-# above is impaled by the neck, and its chaotic motion there is no test of rank invariance): both end with
-# nothing inside and at least 15 particles in contact (measured: 28), in the same state within 1e-6 m
-# (measured: 8.0e-9 m, the Krylov tolerance's effect).
+# A sheet dropped on one shoulder (tests/data/mannequin_shoulder.yaml) on 1 and 2 ranks: both end with nothing
+# inside and at least 5 particles in contact (measured: 70 and 51). On 2 ranks the per-rank cell grids must find
+# exactly what brute force finds: the grid run and a -collision_search brute_force run end bit-identical
+# (measured: 0 m). The 1- and 2-rank states are not compared: a sheet landing on a mesh is not deterministic to
+# round-off since particles within the thickness of the mesh are contacts (docs/collisions.md): whether a
+# landing particle is caught one step earlier or later turns 1e-15 m into 1e-3 m within a few steps (measured:
+# 1 rank at -ksp_rtol 1e-5 against 1e-12, 1.5 mm after 24 steps; 1 against 2 ranks, 0.9 mm).
 clothsim_add_mpi_test(collision_mannequin_shoulder 1 $<TARGET_FILE:test_collision>
   -scene tests/data/mannequin_shoulder.yaml -progress_seconds 100
-  -expect_inside_at_most 0 -expect_contacts_at_least 15
+  -expect_inside_at_most 0 -expect_contacts_at_least 5
   -output_dir ${CMAKE_BINARY_DIR}/test-output/mannequin_shoulder_np1)
 clothsim_add_mpi_test(collision_mannequin_np2 2 $<TARGET_FILE:test_collision>
   -scene tests/data/mannequin_shoulder.yaml -progress_seconds 100
-  -expect_inside_at_most 0 -expect_contacts_at_least 15
+  -expect_inside_at_most 0 -expect_contacts_at_least 5
   -output_dir ${CMAKE_BINARY_DIR}/test-output/mannequin_shoulder_np2)
-add_test(NAME collision_mannequin_same_on_1_and_2_ranks
+clothsim_add_mpi_test(collision_mannequin_np2_brute_force 2 $<TARGET_FILE:test_collision>
+  -scene tests/data/mannequin_shoulder.yaml -progress_seconds 100 -collision_search brute_force
+  -expect_inside_at_most 0 -expect_contacts_at_least 5
+  -output_dir ${CMAKE_BINARY_DIR}/test-output/mannequin_shoulder_np2_brute_force)
+add_test(NAME collision_mannequin_np2_grid_same_as_brute_force
   COMMAND /usr/bin/python3 ${CMAKE_CURRENT_SOURCE_DIR}/compare_checkpoints.py
-    ${CMAKE_BINARY_DIR}/test-output/mannequin_shoulder_np1/checkpoint_000120.h5
-    ${CMAKE_BINARY_DIR}/test-output/mannequin_shoulder_np2/checkpoint_000120.h5 --tolerance 1e-6)
-set_tests_properties(collision_mannequin_same_on_1_and_2_ranks PROPERTIES DEPENDS "collision_mannequin_shoulder;collision_mannequin_np2")
+    ${CMAKE_BINARY_DIR}/test-output/mannequin_shoulder_np2/checkpoint_000120.h5
+    ${CMAKE_BINARY_DIR}/test-output/mannequin_shoulder_np2_brute_force/checkpoint_000120.h5 --tolerance 0)
+set_tests_properties(collision_mannequin_np2_grid_same_as_brute_force PROPERTIES DEPENDS "collision_mannequin_np2;collision_mannequin_np2_brute_force")
 
 
 # Coulomb friction against a stiff tension: a strip on a table, over a frictionless rounded edge, stays at

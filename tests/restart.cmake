@@ -53,3 +53,9 @@ endforeach()
 # to the ranks and SIGKILL as long again later; 1 s may be too short for a step and a checkpoint on a
 # loaded CI machine, so this test gives them 5 s (docs/checkpoint.md).
 set_property(TEST restart_after_sigTERM_to_mpiexec APPEND PROPERTY ENVIRONMENT OMPI_MCA_odls_base_sigkill_timeout=5)
+
+# With the cloth held on a mesh body (the mannequin): 120 steps of tests/data/mannequin_shoulder.yaml on 2 ranks
+# against 60 + restart + 60; the held contacts' triangles are found again from the checkpointed contact normals
+# (tests/restart_mesh_contacts.sh).
+clothsim_add_script_test(restart_same_ranks_mesh_contacts_np2 restart_mesh_contacts.sh)
+set_tests_properties(restart_same_ranks_mesh_contacts_np2 PROPERTIES PROCESSORS 2 TIMEOUT 300)
