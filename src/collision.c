@@ -341,7 +341,9 @@ static PetscErrorCode UpdateGrids(ClothCollision col, const PetscScalar *xp, con
    Static friction must resist, over the next step, both the tangential velocity and the tangential force
    (dvt_force = h |F_t| / m): the implicit solve turns a stiff link's pull into a velocity of only
    stretch / h, so comparing that velocity alone with the friction budget kept particles stuck against
-   tensions hundreds of times mu |F_n|, and locked single links of a garment at 20-30 % strain. */
+   tensions hundreds of times mu |F_n|, and locked single links of a garment at 20-30 % strain. Kinetic
+   friction likewise takes the fraction mu_k dv_n / max(|v_t|, dvt_force) of the slip. Returns whether static
+   friction stopped the particle. */
 static PetscBool RespondVelocity(const SceneBody *d, PetscReal friction_scale, const PetscReal n[3], PetscReal dvn_held, PetscReal dvt_force, PetscScalar v[3])
 {
   PetscReal vn = Dot3(v, n), dvn = 0, vt[3], vt_norm;
@@ -800,25 +802,16 @@ PetscErrorCode ClothCollisionApply(ClothCollision col, Vec previous, PetscReal h
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* The triangle of mesh body b nearest to x, within reach, whose face normal is exactly n (-1: none). */
-static PetscInt FindHeldTriangle(const CollisionMesh *cm, const PetscScalar x[3], const PetscReal n[3], PetscReal reach, PetscReal q[3])
+/* The triangle of mesh cm nearest to x, within reach, whose face normal is exactly n (-1: none). */
+static PetscInt FindHeldTriangle(const CollisionMesh *cm, const PetscScalar x[3], const PetscReal n[3], PetscReal reach)
 {
-  const MeshTriangles *m    = cm->mesh;
-  PetscInt             best = -1;
-  PetscReal            best_d2 = reach * reach, p[3], r[3];
+  PetscReal best_d2 = reach * reach, q[3];
+  PetscInt  best    = -1;
 
-  for (PetscInt tri = 0; tri < m->ntris; tri++) {
+  for (PetscInt tri = 0; tri < cm->mesh->ntris; tri++) {
     const PetscReal *fn = &cm->face_normal[3 * tri];
-    const PetscInt  *v  = &m->tris[3 * tri];
 
-    if (fn[0] != n[0] || fn[1] != n[1] || fn[2] != n[2]) continue;
-    BodyTriangleNearestPoint(x, &m->coords[3 * v[0]], &m->coords[3 * v[1]], &m->coords[3 * v[2]], p);
-    Sub3(x, p, r);
-    if (Dot3(r, r) < best_d2) {
-      best_d2 = Dot3(r, r);
-      best    = tri;
-      for (PetscInt k = 0; k < 3; k++) q[k] = p[k];
-    }
+    if (fn[0] == n[0] && fn[1] == n[1] && fn[2] == n[2]) NearestOnTriangle(cm, tri, x, &best_d2, &best, q);
   }
   return best;
 }
@@ -842,7 +835,7 @@ PetscErrorCode ClothCollisionRestoreHeldContacts(ClothCollision col)
   PetscCall(VecGetArrayRead(x, &xa));
   for (PetscInt i = 0; i < nlocal; i++) {
     const PetscReal c2 = Dot3(&c[3 * i], &c[3 * i]), scale = c2 > 1.5 ? CLOTH_CONTACT_STUCK : 1.0;
-    PetscReal       n[3], q[3] = {0, 0, 0};
+    PetscReal       n[3];
     PetscBool       found = PETSC_FALSE;
 
     if (c2 == 0) continue;
@@ -853,7 +846,7 @@ PetscErrorCode ClothCollisionRestoreHeldContacts(ClothCollision col)
 
       if (!col->meshes[b].mesh) continue;
       PetscCall(BodyGetDescription(col->bodies[b], &d));
-      tri = FindHeldTriangle(&col->meshes[b], &xa[3 * i], n, d->thickness + ContactSlop(d), q);
+      tri = FindHeldTriangle(&col->meshes[b], &xa[3 * i], n, d->thickness + ContactSlop(d));
       if (tri < 0) continue;
       const PetscReal *v0 = &col->meshes[b].mesh->coords[3 * col->meshes[b].mesh->tris[3 * tri]];
       col->held[i] = (HeldContact){b, tri, {n[0], n[1], n[2]}, {v0[0], v0[1], v0[2]}};
