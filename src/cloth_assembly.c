@@ -62,8 +62,8 @@ static PetscErrorCode EvaluateAngle(const ClothAngle *angle, const PetscScalar *
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* The constraint filter of local particle i (Baraff & Witkin 1998): S = 0 when pinned, I - n n^T when held
-   against a body with unit normal n, I when free. Returns whether S differs from I. */
+/* The constraint filter of a particle (Baraff & Witkin 1998): S = 0 when pinned or stuck (|c| =
+   CLOTH_CONTACT_STUCK), I - c c^T when held against a body with unit normal c, I when free. */
 PetscBool ClothContactFilter(const PetscScalar *c, PetscBool pinned, PetscReal S[9])
 {
   const PetscReal c2    = c ? PetscRealPart(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) : 0.0;
@@ -74,6 +74,7 @@ PetscBool ClothContactFilter(const PetscScalar *c, PetscBool pinned, PetscReal S
   return (pinned || c2 > 0) ? PETSC_TRUE : PETSC_FALSE;
 }
 
+/* The filter of local particle i (owned or ghost); returns whether S differs from I. */
 static PetscBool ConstraintFilter(Cloth cloth, const PetscScalar *normal, PetscInt i, PetscReal S[9])
 {
   return ClothContactFilter(normal ? &normal[3 * i] : NULL, cloth->fixed[i], S);
