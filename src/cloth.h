@@ -72,6 +72,12 @@ PetscErrorCode ClothApplyConstraints(Cloth cloth, Vec v);
    ghosts are refreshed by every use. Collective on the first call. */
 PetscErrorCode ClothGetContactNormals(Cloth cloth, Vec *normals);
 #define CLOTH_CONTACT_STUCK 2.0
+/* The length of entry c of the contact constraints: 0 (free), 1 (held, sliding) or CLOTH_CONTACT_STUCK. */
+static inline PetscReal ClothContactScale(const PetscScalar c[3])
+{
+  const PetscReal c2 = PetscRealPart(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+  return c2 == 0 ? 0.0 : (c2 > 1.5 ? CLOTH_CONTACT_STUCK : 1.0);
+}
 /* One particle's filter S (row-major 3x3) from its entry c of the contact constraints (NULL: free) and
    whether it is pinned; returns whether S differs from I. */
 PetscBool ClothContactFilter(const PetscScalar *c, PetscBool pinned, PetscReal S[9]);

@@ -66,12 +66,11 @@ static PetscErrorCode EvaluateAngle(const ClothAngle *angle, const PetscScalar *
    CLOTH_CONTACT_STUCK), I - c c^T when held against a body with unit normal c, I when free. */
 PetscBool ClothContactFilter(const PetscScalar *c, PetscBool pinned, PetscReal S[9])
 {
-  const PetscReal c2    = c ? PetscRealPart(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) : 0.0;
-  const PetscBool stuck = c2 > 1.5 ? PETSC_TRUE : PETSC_FALSE; /* |c| = CLOTH_CONTACT_STUCK, not 1 */
+  const PetscReal scale = c ? ClothContactScale(c) : 0.0;
 
   for (PetscInt r = 0; r < 3; r++)
-    for (PetscInt k = 0; k < 3; k++) S[3 * r + k] = (pinned || stuck) ? 0.0 : (r == k ? 1.0 : 0.0) - (c2 > 0 ? PetscRealPart(c[r] * c[k]) : 0.0);
-  return (pinned || c2 > 0) ? PETSC_TRUE : PETSC_FALSE;
+    for (PetscInt k = 0; k < 3; k++) S[3 * r + k] = (pinned || scale == CLOTH_CONTACT_STUCK) ? 0.0 : (r == k ? 1.0 : 0.0) - (scale > 0 ? PetscRealPart(c[r] * c[k]) : 0.0);
+  return (pinned || scale > 0) ? PETSC_TRUE : PETSC_FALSE;
 }
 
 /* The filter of local particle i (owned or ghost); returns whether S differs from I. */

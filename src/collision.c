@@ -40,7 +40,7 @@ enum { CONTACT_STATE_FREE, CONTACT_STATE_TOUCHING, CONTACT_STATE_HELD };
 typedef struct {
   PetscInt  body;     /* -1: none */
   PetscInt  triangle; /* meshes: the triangle that was hit */
-  PetscReal normal[3], anchor[3]; /* meshes: the triangle's first vertex (a point of its plane that a restart finds again exactly) */
+  PetscReal normal[3];
 } HeldContact;
 
 struct _n_ClothCollision {
@@ -407,7 +407,6 @@ static PetscErrorCode ContactMesh(ClothCollision col, PetscInt b, const PetscRea
   contact->triangle = hit.triangle;
   for (PetscInt k = 0; k < 3; k++) {
     contact->normal[k] = cm->face_normal[3 * hit.triangle + k];
-    contact->anchor[k] = cm->mesh->coords[3 * cm->mesh->tris[3 * hit.triangle] + k];
     x[k]               = hit.point[k] + d->thickness * contact->normal[k];
   }
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -426,10 +425,7 @@ static PetscErrorCode ContactAnalytic(ClothCollision col, PetscInt b, PetscScala
   if (dist < d->thickness)
     for (PetscInt k = 0; k < 3; k++) x[k] += (d->thickness - dist) * n[k];
   contact->body = b;
-  for (PetscInt k = 0; k < 3; k++) {
-    contact->normal[k] = n[k];
-    contact->anchor[k] = x[k] - d->thickness * n[k];
-  }
+  for (PetscInt k = 0; k < 3; k++) contact->normal[k] = n[k];
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -461,7 +457,7 @@ static PetscInt NearestTriangleWithin(ClothCollision col, CollisionMesh *cm, con
     hi[k] = x[k] + radius;
   }
   if (!BoxesOverlap(lo, hi, cm->body_lo, cm->body_hi)) return -1;
-  if (col->search == CLOTH_COLLISION_SEARCH_BRUTE_FORCE || !cm->built) {
+  if (col->search == CLOTH_COLLISION_SEARCH_BRUTE_FORCE) {
     for (PetscInt tri = 0; tri < cm->mesh->ntris; tri++)
       if (BoxesOverlap(lo, hi, &cm->tri_lo[3 * tri], &cm->tri_hi[3 * tri])) NearestOnTriangle(cm, tri, x, &best_d2, &best, q);
     return best;
@@ -505,10 +501,7 @@ static PetscErrorCode ContactMeshProximity(ClothCollision col, PetscInt b, Petsc
   if (Dot3(r, &cm->face_normal[3 * tri]) <= 0) PetscFunctionReturn(PETSC_SUCCESS); /* behind its triangle: not from the outside */
   contact->body     = b;
   contact->triangle = tri;
-  for (PetscInt k = 0; k < 3; k++) {
-    contact->normal[k] = cm->face_normal[3 * tri + k];
-    contact->anchor[k] = cm->mesh->coords[3 * cm->mesh->tris[3 * tri] + k];
-  }
+  for (PetscInt k = 0; k < 3; k++) contact->normal[k] = cm->face_normal[3 * tri + k];
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -531,7 +524,9 @@ static PetscErrorCode KeepHeldMeshContact(ClothCollision col, const HeldContact 
   BodyTriangleNearestPoint(x, &m->coords[3 * tri[0]], &m->coords[3 * tri[1]], &m->coords[3 * tri[2]], q);
   Sub3(x, q, r);
   if (Dot3(r, r) >= PetscSqr(d->thickness + ContactSlop(d))) PetscFunctionReturn(PETSC_SUCCESS);
-  for (PetscInt k = 0; k < 3; k++) r[k] = x[k] - held->anchor[k];
+  /* the distance from the triangle's plane, measured from its first vertex: a restart, which knows the
+     triangle, computes it bit for bit as the run did */
+  for (PetscInt k = 0; k < 3; k++) r[k] = x[k] - m->coords[3 * tri[0] + k];
   dist = Dot3(r, held->normal);
   if (dist < d->thickness)
     for (PetscInt k = 0; k < 3; k++) x[k] += (d->thickness - dist) * held->normal[k];
@@ -562,7 +557,7 @@ static PetscErrorCode KeepOutside(ClothCollision col, const PetscReal p0[3], Pet
 /* One owned particle: detection against every body, response, and whether it is held for the next step. */
 static PetscErrorCode ContactParticle(ClothCollision col, PetscInt i, PetscReal h, PetscReal mass, const PetscScalar p0[3], const PetscScalar f[3], PetscScalar x[3], PetscScalar v[3], PetscScalar normal[3])
 {
-  HeldContact      contact = {-1, -1, {0, 0, 0}, {0, 0, 0}};
+  HeldContact      contact = {-1, -1, {0, 0, 0}};
   const SceneBody *d;
   PetscReal        fn, ft[3], dv[3], dvn;
   PetscBool        stuck;
@@ -576,7 +571,7 @@ static PetscErrorCode ContactParticle(ClothCollision col, PetscInt i, PetscReal 
   }
   if (contact.body < 0) PetscCall(KeepHeldMeshContact(col, &col->held[i], x, &contact));
   for (PetscInt b = 0; b < col->nbodies && contact.body < 0; b++) {
-    HeldContact near = {-1, -1, {0, 0, 0}, {0, 0, 0}};
+    HeldContact near = {-1, -1, {0, 0, 0}};
 
     if (!col->meshes[b].mesh) continue;
     PetscCall(ContactMeshProximity(col, b, x, &near));
@@ -818,8 +813,8 @@ static PetscInt FindHeldTriangle(const CollisionMesh *cm, const PetscScalar x[3]
 
 /* A held particle's constraint is its triangle's face normal, bit for bit (times CLOTH_CONTACT_STUCK when
    stuck), so the triangle is the nearest one within the thickness plus the slop with exactly that normal;
-   its anchor is the triangle's first vertex, as when it was made, so that the run continues bit for bit. Particles held
-   on a sphere or plane need nothing: those contacts are found anew every step. */
+   from it the run continues bit for bit. Particles held on a sphere or plane need nothing: those contacts
+   are found anew every step. */
 PetscErrorCode ClothCollisionRestoreHeldContacts(ClothCollision col)
 {
   Vec                normals, x;
@@ -834,11 +829,11 @@ PetscErrorCode ClothCollisionRestoreHeldContacts(ClothCollision col)
   PetscCall(VecGetArrayRead(normals, &c));
   PetscCall(VecGetArrayRead(x, &xa));
   for (PetscInt i = 0; i < nlocal; i++) {
-    const PetscReal c2 = Dot3(&c[3 * i], &c[3 * i]), scale = c2 > 1.5 ? CLOTH_CONTACT_STUCK : 1.0;
+    const PetscReal scale = ClothContactScale(&c[3 * i]);
     PetscReal       n[3];
     PetscBool       found = PETSC_FALSE;
 
-    if (c2 == 0) continue;
+    if (scale == 0) continue;
     for (PetscInt k = 0; k < 3; k++) n[k] = c[3 * i + k] / scale;
     for (PetscInt b = 0; b < col->nbodies && !found; b++) {
       const SceneBody *d;
@@ -848,8 +843,7 @@ PetscErrorCode ClothCollisionRestoreHeldContacts(ClothCollision col)
       PetscCall(BodyGetDescription(col->bodies[b], &d));
       tri = FindHeldTriangle(&col->meshes[b], &xa[3 * i], n, d->thickness + ContactSlop(d));
       if (tri < 0) continue;
-      const PetscReal *v0 = &col->meshes[b].mesh->coords[3 * col->meshes[b].mesh->tris[3 * tri]];
-      col->held[i] = (HeldContact){b, tri, {n[0], n[1], n[2]}, {v0[0], v0[1], v0[2]}};
+      col->held[i]  = (HeldContact){b, tri, {n[0], n[1], n[2]}};
       col->state[i] = CONTACT_STATE_HELD;
       found         = PETSC_TRUE;
     }
