@@ -81,7 +81,7 @@ static void ClothCountOwnInteractions(Cloth cloth, PetscMPIInt rank, PetscInt *n
   for (PetscInt l = 0; l < m->nlinks; l++)
     if (InteractionOwner(cloth, m->links[l].p, 2) == rank) (*nlinks)++;
   for (PetscInt a = 0; a < m->nangles; a++)
-    if (InteractionOwner(cloth, m->angles[a].p, 3) == rank) (*nangles)++;
+    if (InteractionOwner(cloth, m->angles[a].p, ClothAngleParticleCount(m->angles[a].kind)) == rank) (*nangles)++;
 }
 
 /* Collects the solver indices of particles this rank's interactions touch but does not own. */
@@ -92,7 +92,7 @@ static PetscErrorCode ClothFindGhosts(Cloth cloth, PetscMPIInt rank)
 
   PetscFunctionBeginUser;
   ClothCountOwnInteractions(cloth, rank, &nlinks, &nangles, &nseam);
-  PetscCall(PetscMalloc1(2 * nlinks + 3 * nangles + CLOTH_SEAM_LINK_MAX_PARTICLES * nseam + 1, &cloth->ghosts));
+  PetscCall(PetscMalloc1(2 * nlinks + CLOTH_ANGLE_MAX_PARTICLES * nangles + CLOTH_SEAM_LINK_MAX_PARTICLES * nseam + 1, &cloth->ghosts));
   for (PetscInt s = 0; s < m->nseamlinks; s++)
     if (InteractionOwner(cloth, m->seamlinks[s].p, m->seamlinks[s].np) == rank)
       for (PetscInt k = 0; k < m->seamlinks[s].np; k++)
@@ -102,8 +102,8 @@ static PetscErrorCode ClothFindGhosts(Cloth cloth, PetscMPIInt rank)
       for (PetscInt k = 0; k < 2; k++)
         if (cloth->part[m->links[l].p[k]] != rank) cloth->ghosts[n++] = cloth->solver_of_natural[m->links[l].p[k]];
   for (PetscInt a = 0; a < m->nangles; a++)
-    if (InteractionOwner(cloth, m->angles[a].p, 3) == rank)
-      for (PetscInt k = 0; k < 3; k++)
+    if (InteractionOwner(cloth, m->angles[a].p, ClothAngleParticleCount(m->angles[a].kind)) == rank)
+      for (PetscInt k = 0; k < ClothAngleParticleCount(m->angles[a].kind); k++)
         if (cloth->part[m->angles[a].p[k]] != rank) cloth->ghosts[n++] = cloth->solver_of_natural[m->angles[a].p[k]];
   PetscCall(PetscSortRemoveDupsInt(&n, cloth->ghosts));
   cloth->nghost = n;
@@ -150,9 +150,9 @@ static PetscErrorCode ClothDistributeInteractions(Cloth cloth, PetscMPIInt rank)
     cloth->nlinks++;
   }
   for (PetscInt a = 0; a < m->nangles; a++) {
-    if (InteractionOwner(cloth, m->angles[a].p, 3) != rank) continue;
+    if (InteractionOwner(cloth, m->angles[a].p, ClothAngleParticleCount(m->angles[a].kind)) != rank) continue;
     cloth->angles[cloth->nangles] = m->angles[a];
-    for (PetscInt k = 0; k < 3; k++) PetscCall(ClothLocalIndex(cloth, m->angles[a].p[k], &cloth->angles[cloth->nangles].p[k]));
+    for (PetscInt k = 0; k < ClothAngleParticleCount(m->angles[a].kind); k++) PetscCall(ClothLocalIndex(cloth, m->angles[a].p[k], &cloth->angles[cloth->nangles].p[k]));
     cloth->nangles++;
   }
   PetscFunctionReturn(PETSC_SUCCESS);

@@ -4,7 +4,8 @@
 #include "selfcontact.h"
 #include "log.h"
 
-#define CLOTH_MAX_ELEMENT_PARTICLES 3 /* angles and interpolated seam links (CLOTH_SEAM_LINK_MAX_PARTICLES) */
+/* the largest element: cell shear springs (CLOTH_ANGLE_MAX_PARTICLES) and interpolated seam links (CLOTH_SEAM_LINK_MAX_PARTICLES) */
+#define CLOTH_MAX_ELEMENT_PARTICLES PetscMax(CLOTH_ANGLE_MAX_PARTICLES, CLOTH_SEAM_LINK_MAX_PARTICLES)
 
 /* What one pass over the interactions accumulates (NULL / PETSC_FALSE: not wanted). */
 typedef struct {
@@ -55,10 +56,15 @@ static PetscErrorCode EvaluateLink(const ClothLink *link, const PetscScalar *x, 
 
 static PetscErrorCode EvaluateAngle(const ClothAngle *angle, const PetscScalar *x, PetscBool want_h, PetscBool psd, ClothElement *e)
 {
+  const PetscReal *xs[CLOTH_ANGLE_MAX_PARTICLES];
+
   PetscFunctionBeginUser;
-  e->np = 3;
-  for (PetscInt k = 0; k < 3; k++) e->p[k] = angle->p[k];
-  PetscCall(ClothAngleEvaluate(angle, &x[3 * angle->p[0]], &x[3 * angle->p[1]], &x[3 * angle->p[2]], psd, &e->energy, e->force, want_h ? e->H : NULL));
+  e->np = ClothAngleParticleCount(angle->kind);
+  for (PetscInt k = 0; k < e->np; k++) {
+    e->p[k] = angle->p[k];
+    xs[k]   = &x[3 * angle->p[k]];
+  }
+  PetscCall(ClothAngleEvaluate(angle, xs, psd, &e->energy, e->force, want_h ? e->H : NULL));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

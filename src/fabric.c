@@ -26,7 +26,7 @@ PetscErrorCode FabricSetFromKES(const FabricKES *kes, SceneFabric *fabric)
   fabric->bend_weft   = kes->bend_weft * FABRIC_KES_BEND_SI;
   fabric->bend_model  = CLOTH_BEND_ANGLE;
   fabric->shear       = kes->shear * FABRIC_KES_SHEAR_SI;
-  fabric->shear_model = CLOTH_SHEAR_ANGLE;
+  fabric->shear_model = CLOTH_SHEAR_CELL;
   if (kes->lt_warp > 0) {
     PetscCall(FabricBiphasicFromKES(kes->emt_warp, kes->lt_warp, &fabric->stretch_warp, &fabric->stretch_stiff_warp, &fabric->stretch_knee_warp));
     PetscCall(FabricBiphasicFromKES(kes->emt_weft, kes->lt_weft, &fabric->stretch_weft, &fabric->stretch_stiff_weft, &fabric->stretch_knee_weft));
@@ -57,6 +57,11 @@ PetscReal FabricShearLinkStiffness(const SceneFabric *fabric, PetscReal rest, Pe
 PetscReal FabricShearAngleStiffness(const SceneFabric *fabric, PetscReal cell_area)
 {
   return fabric->shear * cell_area / 4.0;
+}
+
+PetscReal FabricShearCellStiffness(const SceneFabric *fabric, PetscReal cell_area)
+{
+  return fabric->shear * cell_area;
 }
 
 PetscReal FabricBendLinkStiffness(const SceneFabric *fabric, PetscBool warp, PetscReal rest, PetscReal width)

@@ -5,6 +5,7 @@
    - stretch link along a thread:   k = E w / l0        (E: tensile 2D modulus, N/m)
    - shear diagonal link:           k = G A / (l0^2/2)  (A: cell area; k = G on a square grid)
    - shear corner angle:            k = G A / 4         (N m; four corners share a cell)
+   - shear cell angle:              k = G A             (N m; one spring on the warp-weft angle at the cell's centre)
    - bending skip-one link:         k = bend w / (l0/2) (bend in N/m per link on a square grid)
    - bending thread angle:          k = B w / h         (B: bending rigidity, N m; h: mean segment)
    so that on a uniform square grid the link coefficients equal the scene's values, and the angle
@@ -32,7 +33,8 @@ typedef struct {
 } FabricKES;
 
 /* Sets density, stretch (secant modulus Fm/EMT, or a biphasic curve through the same work WT when LT is given),
-   shear and bending of fabric from KES values; shear and bending use the angle models (their SI units). */
+   shear and bending of fabric from KES values; shear uses the cell model, bending the angle model (both take
+   the continuum moduli, SI units). */
 PetscErrorCode FabricSetFromKES(const FabricKES *kes, SceneFabric *fabric);
 /* Biphasic curve with the knee at half the maximum strain that reaches Fm at strain emt and encloses the
    work WT = LT Fm emt / 2: modulus below the knee, modulus beyond it (N/m), knee strain. */
@@ -43,5 +45,6 @@ PetscReal FabricStretchLinkStiffness(const SceneFabric *fabric, PetscBool warp, 
 PetscReal FabricStretchLinkStiffStiffness(const SceneFabric *fabric, PetscBool warp, PetscReal rest, PetscReal width);
 PetscReal FabricShearLinkStiffness(const SceneFabric *fabric, PetscReal rest, PetscReal cell_area);
 PetscReal FabricShearAngleStiffness(const SceneFabric *fabric, PetscReal cell_area);
+PetscReal FabricShearCellStiffness(const SceneFabric *fabric, PetscReal cell_area);
 PetscReal FabricBendLinkStiffness(const SceneFabric *fabric, PetscBool warp, PetscReal rest, PetscReal width);
 PetscReal FabricBendAngleStiffness(const SceneFabric *fabric, PetscBool warp, PetscReal segment, PetscReal width);

@@ -24,7 +24,7 @@ typedef struct {
   const char *name;
   PetscReal   density;                    /* kg/m^2 */
   PetscReal   stretch_warp, stretch_weft; /* N/m */
-  PetscReal   shear;                      /* N/m (angle model) */
+  PetscReal   shear;                      /* N/m (cell model: 0.5 G gamma^2 per area) */
   PetscReal   bend_warp, bend_weft;       /* N m (angle model) */
 } FabricPreset;
 
@@ -47,7 +47,7 @@ static const FabricPreset FabricPresets[] = {
        (commit 1e4a63f; the paper itself could not be read here). The paper measured the fabrics on KES-FB and
        converted the values to CLO3D input units: areal mass g/m^2, stretch and shear g/s^2, bending
        g mm^2/s^2. Taken here by units alone: density = mass x 1e-3 kg/m^2, stretch and shear x 1e-3 N/m,
-       bending x 1e-9 N m (g mm^2/s^2 = 1e-9 kg m^2/s^2), as the continuum rigidities of the angle models;
+       bending x 1e-9 N m (g mm^2/s^2 = 1e-9 kg m^2/s^2), as the continuum moduli of the cell shear and angle bending models;
        CLO3D's own scaling of its inputs is not published, so B carries that uncertainty. Transcribed numbers
        (mass; stretch warp, weft; shear; bending warp, weft; measured DC): */
     /* M1, 100% polyester, twill 3/1: 135.17; 477226, 458614; 41000; 1950, 610; DC 0.223 */
@@ -79,7 +79,7 @@ PetscErrorCode FabricPresetApply(const char name[], SceneFabric *fabric, PetscBo
     fabric->stretch_weft = fabric->stretch_stiff_weft = preset->stretch_weft;
     fabric->stretch_knee_warp = fabric->stretch_knee_weft = 0;
     fabric->shear                                         = preset->shear;
-    fabric->shear_model                                   = CLOTH_SHEAR_ANGLE;
+    fabric->shear_model                                   = CLOTH_SHEAR_CELL;
     fabric->bend_warp                                     = preset->bend_warp;
     fabric->bend_weft                                     = preset->bend_weft;
     fabric->bend_model                                    = CLOTH_BEND_ANGLE;

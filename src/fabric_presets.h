@@ -1,7 +1,7 @@
 /* Fabric presets: real fabrics whose model values come from published measurements.
 
-   Each preset fills a SceneFabric (density, stretch, shear, bending; angle models for shear and
-   bending, linear tensile curve, no damping); a scene's fabric names one with `preset:` and may
+   Each preset fills a SceneFabric (density, stretch, shear, bending; the cell shear model and the
+   angle bending model, linear tensile curve, no damping); a scene's fabric names one with `preset:` and may
    override any value. Sources and derivations are cited beside every number in fabric_presets.c
    and summarised in docs/validation.md. */
 #pragma once

@@ -55,15 +55,22 @@ PetscErrorCode ClothLinkEvaluate(const ClothLink *link, const PetscReal x0[3], c
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* Incidence of the two arms: arm a = sum_k A[k] x_k, arm b = sum_k B[k] x_k. */
-static void AngleArms(ClothAngleKind kind, PetscReal A[3], PetscReal B[3])
+PetscInt ClothAngleParticleCount(ClothAngleKind kind)
 {
-  if (kind == CLOTH_ANGLE_CORNER) {
-    A[0] = -1; A[1] = 1; A[2] = 0;
-    B[0] = -1; B[1] = 0; B[2] = 1;
-  } else {
-    A[0] = -1; A[1] = 1; A[2] = 0;
-    B[0] = 0;  B[1] = -1; B[2] = 1;
+  return kind == CLOTH_ANGLE_CELL ? 4 : 3;
+}
+
+void ClothAngleArms(ClothAngleKind kind, PetscReal A[CLOTH_ANGLE_MAX_PARTICLES], PetscReal B[CLOTH_ANGLE_MAX_PARTICLES])
+{
+  static const PetscReal arms[3][2][CLOTH_ANGLE_MAX_PARTICLES] = {
+    {{-1, 1, 0, 0},          {-1, 0, 1, 0}},         /* corner */
+    {{-1, 1, 0, 0},          {0, -1, 1, 0}},         /* chain */
+    {{-0.5, 0.5, 0.5, -0.5}, {-0.5, -0.5, 0.5, 0.5}} /* cell: d/du and d/dv of the bilinear map at the centre */
+  };
+
+  for (PetscInt k = 0; k < CLOTH_ANGLE_MAX_PARTICLES; k++) {
+    A[k] = arms[kind][0][k];
+    B[k] = arms[kind][1][k];
   }
 }
 
@@ -92,17 +99,17 @@ static void NormalizedDot(const PetscReal a[3], const PetscReal b[3], PetscReal 
   }
 }
 
-PetscErrorCode ClothAngleEvaluate(const ClothAngle *angle, const PetscReal x0[3], const PetscReal x1[3], const PetscReal x2[3], PetscBool psd, PetscReal *energy, PetscReal force[9], PetscReal H[81])
+PetscErrorCode ClothAngleEvaluate(const ClothAngle *angle, const PetscReal *const x[], PetscBool psd, PetscReal *energy, PetscReal force[], PetscReal H[])
 {
-  const PetscReal *x[3] = {x0, x1, x2};
-  PetscReal        A[3], B[3], a[3] = {0, 0, 0}, b[3] = {0, 0, 0}, c, s, g[6], Hc[36];
-  PetscReal        dEdc, d2Edc2;
+  const PetscInt  np = ClothAngleParticleCount(angle->kind), n = 3 * np;
+  PetscReal       A[CLOTH_ANGLE_MAX_PARTICLES], B[CLOTH_ANGLE_MAX_PARTICLES], a[3] = {0, 0, 0}, b[3] = {0, 0, 0}, c, s, g[6], Hc[36];
+  PetscReal       dEdc, d2Edc2;
   /* Below this sine the cone of (theta - theta0) at theta = 0 is cut off (only matters when sin0 > 0). */
-  const PetscReal  sin_floor = 1e-6;
+  const PetscReal sin_floor = 1e-6;
 
   PetscFunctionBeginUser;
-  AngleArms(angle->kind, A, B);
-  for (PetscInt k = 0; k < 3; k++)
+  ClothAngleArms(angle->kind, A, B);
+  for (PetscInt k = 0; k < np; k++)
     for (PetscInt i = 0; i < 3; i++) {
       a[i] += A[k] * x[k][i];
       b[i] += B[k] * x[k][i];
@@ -120,19 +127,19 @@ PetscErrorCode ClothAngleEvaluate(const ClothAngle *angle, const PetscReal x0[3]
     d2Edc2 = 0.0;
   }
   if (force) {
-    for (PetscInt k = 0; k < 3; k++)
+    for (PetscInt k = 0; k < np; k++)
       for (PetscInt i = 0; i < 3; i++) force[3 * k + i] = -dEdc * (A[k] * g[i] + B[k] * g[3 + i]);
   }
   if (H) {
     PetscReal He[36]; /* Hessian w.r.t. (a, b) */
     for (PetscInt r = 0; r < 6; r++)
       for (PetscInt q = 0; q < 6; q++) He[6 * r + q] = d2Edc2 * g[r] * g[q] + dEdc * Hc[6 * r + q];
-    for (PetscInt k = 0; k < 3; k++)
-      for (PetscInt l = 0; l < 3; l++)
+    for (PetscInt k = 0; k < np; k++)
+      for (PetscInt l = 0; l < np; l++)
         for (PetscInt i = 0; i < 3; i++)
           for (PetscInt j = 0; j < 3; j++)
-            H[9 * (3 * k + i) + 3 * l + j] = A[k] * A[l] * He[6 * i + j] + A[k] * B[l] * He[6 * i + 3 + j] + B[k] * A[l] * He[6 * (3 + i) + j] + B[k] * B[l] * He[6 * (3 + i) + 3 + j];
-    if (psd) PetscCall(ClothProjectPSD(9, H));
+            H[n * (3 * k + i) + 3 * l + j] = A[k] * A[l] * He[6 * i + j] + A[k] * B[l] * He[6 * i + 3 + j] + B[k] * A[l] * He[6 * (3 + i) + j] + B[k] * B[l] * He[6 * (3 + i) + 3 + j];
+    if (psd) PetscCall(ClothProjectPSD(n, H));
   }
   PetscFunctionReturn(PETSC_SUCCESS);
 }

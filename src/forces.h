@@ -24,13 +24,19 @@ typedef struct {
 
 typedef enum {
   CLOTH_ANGLE_CORNER, /* arms p0->p1 and p0->p2 (warp-weft angle at a cell corner: shear) */
-  CLOTH_ANGLE_CHAIN   /* arms p0->p1 and p1->p2 (consecutive segments of one thread: bending) */
+  CLOTH_ANGLE_CHAIN,  /* arms p0->p1 and p1->p2 (consecutive segments of one thread: bending) */
+  CLOTH_ANGLE_CELL    /* p0..p3 a grid cell counter-clockwise from node (i, j): arms are the warp and weft
+                         tangents at its centre, (x1 - x0 + x2 - x3)/2 and (x3 - x0 + x2 - x1)/2 (shear
+                         measured in the tangent plane: a cell folded or twisted out of plane is not sheared) */
 } ClothAngleKind;
 
+#define CLOTH_ANGLE_MAX_PARTICLES 4
+
 /* An angle spring with energy k (1 - cos(theta - theta0)), theta the angle between the two arms,
-   theta0 its rest value (stored as cos and sin). For small deviations this is 0.5 k (theta - theta0)^2. */
+   theta0 its rest value (stored as cos and sin). For small deviations this is 0.5 k (theta - theta0)^2.
+   Each arm is a fixed linear combination of the particles' positions (ClothAngleArms). */
 typedef struct {
-  PetscInt       p[3];
+  PetscInt       p[CLOTH_ANGLE_MAX_PARTICLES]; /* the first ClothAngleParticleCount(kind) are used */
   ClothAngleKind kind;
   PetscReal      k;          /* N m */
   PetscReal      cos0, sin0; /* rest angle */
@@ -41,10 +47,16 @@ typedef struct {
    compressive transverse term is dropped), as the implicit system needs. Any output may be NULL. */
 PetscErrorCode ClothLinkEvaluate(const ClothLink *link, const PetscReal x0[3], const PetscReal x1[3], PetscBool psd, PetscReal *energy, PetscReal force1[3], PetscReal K[9]);
 
-/* Energy of an angle spring; forces on its three particles (3x3, row per particle); its 9x9
-   Hessian (row-major, particle-major). With psd, the Hessian is projected onto the positive
-   semidefinite cone (eigenvalues clamped at 0). Any output may be NULL. */
-PetscErrorCode ClothAngleEvaluate(const ClothAngle *angle, const PetscReal x0[3], const PetscReal x1[3], const PetscReal x2[3], PetscBool psd, PetscReal *energy, PetscReal force[9], PetscReal H[81]);
+/* Number of particles of an angle spring of this kind (3 or 4). */
+PetscInt ClothAngleParticleCount(ClothAngleKind kind);
+/* The arms of an angle spring as weights of its particles: arm a = sum_k A[k] x[p[k]], b = sum_k B[k] x[p[k]]
+   (the same weights give the rest angle from the flat pattern). */
+void ClothAngleArms(ClothAngleKind kind, PetscReal A[CLOTH_ANGLE_MAX_PARTICLES], PetscReal B[CLOTH_ANGLE_MAX_PARTICLES]);
+
+/* Energy of an angle spring at positions x[k] of its np = ClothAngleParticleCount particles; forces on
+   them (np x 3, row per particle); its 3np x 3np Hessian (row-major, particle-major). With psd, the
+   Hessian is projected onto the positive semidefinite cone (eigenvalues clamped at 0). Any output may be NULL. */
+PetscErrorCode ClothAngleEvaluate(const ClothAngle *angle, const PetscReal *const x[], PetscBool psd, PetscReal *energy, PetscReal force[], PetscReal H[]);
 
 /* Projects a symmetric n x n matrix (row-major, n <= 12) onto the positive semidefinite cone in place. */
 PetscErrorCode ClothProjectPSD(PetscInt n, PetscReal A[]);

@@ -73,19 +73,23 @@ static ClothLink *AddLink(ClothModel model, PetscInt a, PetscInt b, PetscReal k,
   return link;
 }
 
-static void AddAngle(ClothModel model, const PieceContext *pc, ClothAngleKind kind, const PetscInt local[3], PetscReal k)
+/* An angle spring on the pattern nodes local[] (ClothAngleParticleCount(kind) of them), its rest angle
+   from the flat pattern through the same arm weights as in ClothAngleEvaluate. */
+static void AddAngle(ClothModel model, const PieceContext *pc, ClothAngleKind kind, const PetscInt local[], PetscReal k)
 {
-  ClothAngle      *angle = &model->angles[model->nangles++];
-  const PetscReal *u[3]  = {&pc->uv[2 * local[0]], &pc->uv[2 * local[1]], &pc->uv[2 * local[2]]};
-  PetscReal        a[2], b[2], na, nb;
+  ClothAngle *angle = &model->angles[model->nangles++];
+  PetscReal   A[CLOTH_ANGLE_MAX_PARTICLES], B[CLOTH_ANGLE_MAX_PARTICLES], a[2] = {0, 0}, b[2] = {0, 0}, na, nb;
 
-  for (PetscInt c = 0; c < 2; c++) {
-    a[c] = u[1][c] - u[0][c];
-    b[c] = (kind == CLOTH_ANGLE_CORNER) ? u[2][c] - u[0][c] : u[2][c] - u[1][c];
+  ClothAngleArms(kind, A, B);
+  for (PetscInt q = 0; q < ClothAngleParticleCount(kind); q++) {
+    for (PetscInt c = 0; c < 2; c++) {
+      a[c] += A[q] * pc->uv[2 * local[q] + c];
+      b[c] += B[q] * pc->uv[2 * local[q] + c];
+    }
+    angle->p[q] = pc->offset + local[q];
   }
-  na = PetscSqrtReal(a[0] * a[0] + a[1] * a[1]);
-  nb = PetscSqrtReal(b[0] * b[0] + b[1] * b[1]);
-  for (PetscInt c = 0; c < 3; c++) angle->p[c] = pc->offset + local[c];
+  na          = PetscSqrtReal(a[0] * a[0] + a[1] * a[1]);
+  nb          = PetscSqrtReal(b[0] * b[0] + b[1] * b[1]);
   angle->kind = kind;
   angle->k    = k;
   angle->cos0 = (a[0] * b[0] + a[1] * b[1]) / (na * nb);
@@ -150,6 +154,8 @@ static PetscErrorCode AddCellInteractions(ClothModel model, const PieceContext *
           const PetscReal rest = FlatDistance(pc, c[d], c[d + 2]);
           AddLink(model, pc->offset + c[d], pc->offset + c[d + 2], FabricShearLinkStiffness(pc->fabric, rest, area), rest, 0, 0);
         }
+      } else if (pc->fabric->shear_model == CLOTH_SHEAR_CELL) {
+        AddAngle(model, pc, CLOTH_ANGLE_CELL, c, FabricShearCellStiffness(pc->fabric, area));
       } else {
         for (PetscInt k = 0; k < 4; k++) {
           const PetscInt local[3] = {c[k], c[(k + 1) % 4], c[(k + 3) % 4]};
@@ -381,7 +387,7 @@ PetscErrorCode ClothModelGetAdjacency(ClothModel model, PetscInt **xadj_out, Pet
   PetscFunctionBeginUser;
   PetscCall(PetscCalloc1(n, &count));
   for (PetscInt l = 0; l < model->nlinks; l++) VisitPairs(model->links[l].p, 2, count, NULL);
-  for (PetscInt a = 0; a < model->nangles; a++) VisitPairs(model->angles[a].p, 3, count, NULL);
+  for (PetscInt a = 0; a < model->nangles; a++) VisitPairs(model->angles[a].p, ClothAngleParticleCount(model->angles[a].kind), count, NULL);
   for (PetscInt s = 0; s < model->nseamlinks; s++) VisitPairs(model->seamlinks[s].p, model->seamlinks[s].np, count, NULL);
   PetscCall(PetscMalloc1(n + 1, &xadj));
   xadj[0] = 0;
@@ -393,7 +399,7 @@ PetscErrorCode ClothModelGetAdjacency(ClothModel model, PetscInt **xadj_out, Pet
     count[i] = 0;
   }
   for (PetscInt l = 0; l < model->nlinks; l++) VisitPairs(model->links[l].p, 2, count, rows);
-  for (PetscInt a = 0; a < model->nangles; a++) VisitPairs(model->angles[a].p, 3, count, rows);
+  for (PetscInt a = 0; a < model->nangles; a++) VisitPairs(model->angles[a].p, ClothAngleParticleCount(model->angles[a].kind), count, rows);
   for (PetscInt s = 0; s < model->nseamlinks; s++) VisitPairs(model->seamlinks[s].p, model->seamlinks[s].np, count, rows);
   /* Sort and remove duplicates row by row, then compact. */
   {

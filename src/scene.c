@@ -9,7 +9,7 @@
          density: 0.2                 # kg/m^2, required, > 0
          stretch: 1000                # N/m, > 0; or stretch_warp / stretch_weft (each defaults to stretch)
          shear: 1000                  # N/m, default 0, >= 0
-         shear_model: link            # link | angle (default link)
+         shear_model: link            # link | angle | cell (default link)
          bend: 10                     # link model: N/m per skip-one link; angle model: rigidity N m;
                                       # or bend_warp / bend_weft (each defaults to bend); default 0, >= 0
          bend_model: link             # link | angle (default link)
@@ -62,7 +62,7 @@
 #include "fabric.h"
 #include "pattern.h"
 
-const char *const ClothShearModels[]       = {"link", "angle", "ClothShearModel", "CLOTH_SHEAR_", NULL};
+const char *const ClothShearModels[]       = {"link", "angle", "cell", "ClothShearModel", "CLOTH_SHEAR_", NULL};
 const char *const ClothBendModels[]        = {"link", "angle", "ClothBendModel", "CLOTH_BEND_", NULL};
 const char *const ClothMassDistributions[] = {"area", "uniform", "ClothMassDistribution", "CLOTH_MASS_", NULL};
 /* Written in the same PETSc enum-list style so that ReadChoice treats every list of names alike; the integrator

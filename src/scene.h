@@ -9,7 +9,8 @@
 
 typedef enum {
   CLOTH_SHEAR_LINK,  /* diagonal links in every grid cell (the paper's "particle 2") */
-  CLOTH_SHEAR_ANGLE  /* springs on the warp-weft angle at every cell corner */
+  CLOTH_SHEAR_ANGLE, /* springs on the warp-weft angle at every cell corner (3D angle between the cell's edges) */
+  CLOTH_SHEAR_CELL   /* one spring per cell on the warp-weft angle at its centre, in the tangent plane */
 } ClothShearModel;
 extern const char *const ClothShearModels[];
 

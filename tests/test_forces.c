@@ -1,10 +1,11 @@
 /* Every force's Jacobian against central finite differences.
 
-   1. Element level: links (with and without repulsion active; biphasic below and beyond the knee) and angle springs (corner and chain,
-      several rest angles) at random configurations: force = -dE/dx and Hessian = d(-force)/dx.
+   1. Element level: links (with and without repulsion active; biphasic below and beyond the knee) and angle springs (corner, chain
+      and cell, several rest angles) at random configurations (cells: randomly distorted squares): force = -dE/dx and Hessian = d(-force)/dx.
    2. System level: the assembled implicit matrix of a small perturbed sheet with every interaction
       kind, A = M + h C + h^2 K, against finite differences of the total force in position and in
-      velocity (damping). Relative error below 1e-6 everywhere. Prints nothing unless a check fails. */
+      velocity (damping). Relative error below 1e-6 everywhere. Prints nothing unless a check fails.
+   3. What the cell shear spring measures (CheckCellShearMeasure). */
 #include <petscsys.h>
 #include "forces.h"
 #include "seam.h"
@@ -53,8 +54,10 @@ static PetscErrorCode LinkFunction(const void *ctx, const PetscReal *x, PetscRea
 
 static PetscErrorCode AngleFunction(const void *ctx, const PetscReal *x, PetscReal *E, PetscReal *f, PetscReal *H)
 {
+  const PetscReal *xs[CLOTH_ANGLE_MAX_PARTICLES] = {&x[0], &x[3], &x[6], &x[9]};
+
   PetscFunctionBeginUser;
-  PetscCall(ClothAngleEvaluate((const ClothAngle *)ctx, &x[0], &x[3], &x[6], PETSC_FALSE, E, f, H));
+  PetscCall(ClothAngleEvaluate((const ClothAngle *)ctx, xs, PETSC_FALSE, E, f, H));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -70,7 +73,7 @@ static PetscErrorCode SeamLinkFunction(const void *ctx, const PetscReal *x, Pets
 static PetscErrorCode CheckElement(ElementFunction fn, const void *ctx, PetscInt np, const PetscReal x[], const char what[])
 {
   const PetscInt n = 3 * np;
-  PetscReal      E, f[9], H[81], fd_force[9], fd_H[81], xp[9], Ep, Em, fp[9], fm[9], Hs[81];
+  PetscReal      E, f[12], H[144], fd_force[12], fd_H[144], xp[12], Ep, Em, fp[12], fm[12], Hs[144];
 
   PetscFunctionBeginUser;
   PetscCall(fn(ctx, x, &E, f, H));
@@ -93,10 +96,10 @@ static PetscErrorCode CheckElements(PetscRandom rnd)
 {
   PetscFunctionBeginUser;
   for (PetscInt trial = 0; trial < 200; trial++) {
-    PetscReal  x[9];
+    PetscReal  x[12];
     ClothLink  link;
     ClothAngle angle;
-    for (PetscInt i = 0; i < 9; i++) x[i] = Uniform(rnd, -0.01, 0.01);
+    for (PetscInt i = 0; i < 12; i++) x[i] = Uniform(rnd, -0.01, 0.01);
     /* a link whose length is well away from the repulsion switch point */
     link.p[0] = 0;
     link.p[1] = 1;
@@ -124,16 +127,21 @@ static PetscErrorCode CheckElements(PetscRandom rnd)
       biphasic.k_stiff     = Uniform(rnd, 2, 10) * link.k;
       PetscCall(CheckElement(LinkFunction, &biphasic, 2, x, (trial % 2) ? "biphasic link beyond the knee" : "biphasic link below the knee"));
     }
-    for (PetscInt kind = 0; kind < 2; kind++) {
-      const PetscReal theta0 = (trial % 4 == 0) ? (kind ? 0.0 : PETSC_PI / 2) : Uniform(rnd, 0.05, PETSC_PI - 0.05);
-      angle.p[0] = 0;
-      angle.p[1] = 1;
-      angle.p[2] = 2;
-      angle.kind = kind ? CLOTH_ANGLE_CHAIN : CLOTH_ANGLE_CORNER;
+    for (PetscInt kind = CLOTH_ANGLE_CORNER; kind <= CLOTH_ANGLE_CELL; kind++) {
+      const char *const names[] = {"corner angle", "chain angle", "cell angle"};
+      const PetscReal   theta0  = (trial % 4 == 0) ? (kind == CLOTH_ANGLE_CHAIN ? 0.0 : PETSC_PI / 2) : Uniform(rnd, 0.05, PETSC_PI - 0.05);
+      for (PetscInt k = 0; k < CLOTH_ANGLE_MAX_PARTICLES; k++) angle.p[k] = k;
+      angle.kind = (ClothAngleKind)kind;
       angle.k    = Uniform(rnd, 1e-6, 1e-3);
       angle.cos0 = PetscCosReal(theta0);
       angle.sin0 = PetscSinReal(theta0);
-      PetscCall(CheckElement(AngleFunction, &angle, 3, x, kind ? "chain angle" : "corner angle"));
+      if (angle.kind == CLOTH_ANGLE_CELL) { /* a cell: a 1 cm square, each corner moved by up to 4 mm in 3D */
+        const PetscReal corner[4][2] = {{0, 0}, {0.01, 0}, {0.01, 0.01}, {0, 0.01}};
+        PetscReal       xc[12];
+        for (PetscInt q = 0; q < 4; q++)
+          for (PetscInt c = 0; c < 3; c++) xc[3 * q + c] = (c < 2 ? corner[q][c] : 0.0) + 0.4 * x[3 * q + c];
+        PetscCall(CheckElement(AngleFunction, &angle, 4, xc, names[kind]));
+      } else PetscCall(CheckElement(AngleFunction, &angle, 3, x, names[kind]));
     }
     {
       /* a seam link to an interpolated point: quadratic core (odd trials) and constant pull (even) */
@@ -149,6 +157,54 @@ static PetscErrorCode CheckElements(PetscRandom rnd)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* Total shear energy of one square cell (side h, rest angle 90 degrees, G A = 1) at corners x (counter-clockwise
+   from (0, 0)): one cell spring, or the four corner springs of G A / 4 each. */
+static PetscErrorCode CellShearEnergy(const PetscReal x[12], PetscBool cell, PetscReal *energy)
+{
+  ClothAngle angle = {{0, 1, 2, 3}, CLOTH_ANGLE_CELL, 1.0, 0.0, 1.0};
+  PetscReal  e;
+
+  PetscFunctionBeginUser;
+  *energy = 0;
+  if (cell) {
+    const PetscReal *xs[4] = {&x[0], &x[3], &x[6], &x[9]};
+    PetscCall(ClothAngleEvaluate(&angle, xs, PETSC_FALSE, energy, NULL, NULL));
+  } else {
+    angle.kind = CLOTH_ANGLE_CORNER;
+    angle.k    = 0.25;
+    for (PetscInt k = 0; k < 4; k++) { /* corner k, arms to its two neighbours (as model.c) */
+      const PetscReal *xs[3] = {&x[3 * k], &x[3 * ((k + 1) % 4)], &x[3 * ((k + 3) % 4)]};
+      PetscCall(ClothAngleEvaluate(&angle, xs, PETSC_FALSE, &e, NULL, NULL));
+      *energy += e;
+    }
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* What the cell shear spring measures, against the corner springs, on a 1 cm square cell:
+   - in-plane shear by gamma = 0.01: both give 0.5 G A gamma^2 (relative 1e-4: k (1 - cos) against the quadratic);
+   - the cell folded out of plane with all four sides and both diagonals kept equal (corners 1 and 3 lifted by
+     0.3 h: a twist, which is also how a fold across a cell's diagonal is taken up without stretching its
+     edges): the threads stay at 90 degrees in the tangent plane, so the cell spring gives 0 (below 1e-12), while
+     the corner springs, which measure the 3D angle between the cell's edges, charge it (>= 1e-3 G A). */
+static PetscErrorCode CheckCellShearMeasure(void)
+{
+  const PetscReal h = 0.01, gamma = 0.01, z = 0.3 * h;
+  const PetscReal sheared[12] = {0, 0, 0, h, 0, 0, h + h * PetscTanReal(gamma), h, 0, h * PetscTanReal(gamma), h, 0};
+  const PetscReal twisted[12] = {0, 0, 0, h, 0, z, h, h, 0, 0, h, z};
+  PetscReal       e_cell, e_corner;
+
+  PetscFunctionBeginUser;
+  PetscCall(CellShearEnergy(sheared, PETSC_TRUE, &e_cell));
+  PetscCall(CellShearEnergy(sheared, PETSC_FALSE, &e_corner));
+  PetscCheck(PetscAbsReal(e_cell / (0.5 * gamma * gamma) - 1) < 1e-4 && PetscAbsReal(e_corner / (0.5 * gamma * gamma) - 1) < 1e-4, PETSC_COMM_SELF, PETSC_ERR_PLIB,
+             "in-plane shear 0.01: energies %g (cell) and %g (corners), expected 0.5 G A gamma^2 = %g", (double)e_cell, (double)e_corner, (double)(0.5 * gamma * gamma));
+  PetscCall(CellShearEnergy(twisted, PETSC_TRUE, &e_cell));
+  PetscCall(CellShearEnergy(twisted, PETSC_FALSE, &e_corner));
+  PetscCheck(e_cell < 1e-12 && e_corner > 1e-3, PETSC_COMM_SELF, PETSC_ERR_PLIB, "unsheared twisted cell: energies %g (cell, expected 0) and %g (corners, expected > 1e-3)", (double)e_cell, (double)e_corner);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 int main(int argc, char **argv)
 {
   PetscRandom rnd;
@@ -158,6 +214,7 @@ int main(int argc, char **argv)
   PetscCall(PetscRandomSetSeed(rnd, 12345));
   PetscCall(PetscRandomSeed(rnd));
   PetscCall(CheckElements(rnd));
+  PetscCall(CheckCellShearMeasure());
   PetscCall(PetscRandomDestroy(&rnd));
   PetscCall(PetscFinalize());
   return 0;

@@ -79,7 +79,7 @@ static PetscErrorCode CheckKES(void)
   PetscCall(CheckClose(fabric.bend_weft, 0.08 * 9.80665e-5, 1e-14, "KES B 0.08 gf cm^2/cm -> N m"));
   PetscCall(CheckClose(fabric.shear, 0.8 * 0.980665 * 180 / PETSC_PI, 1e-14, "KES G 0.8 gf/cm/degree -> N/m per radian"));
   PetscCall(CheckClose(fabric.shear, 44.950372, 1e-7, "KES G 0.8 gf/cm/degree = 44.950372 N/m"));
-  PetscCheck(fabric.bend_model == CLOTH_BEND_ANGLE && fabric.shear_model == CLOTH_SHEAR_ANGLE, PETSC_COMM_SELF, PETSC_ERR_PLIB, "KES values are rigidities: expected the angle models");
+  PetscCheck(fabric.bend_model == CLOTH_BEND_ANGLE && fabric.shear_model == CLOTH_SHEAR_CELL, PETSC_COMM_SELF, PETSC_ERR_PLIB, "KES values are rigidities: expected the angle bending and cell shear models");
   /* warp: LT 0.75 -> below the knee (2 LT - 1) Fm/EMT = 0.5 x 9806.65, beyond (3 - 2 LT) Fm/EMT = 1.5 x 9806.65 */
   PetscCall(CheckClose(fabric.stretch_warp, 0.5 * fm / 0.05, 1e-14, "KES warp modulus below the knee"));
   PetscCall(CheckClose(fabric.stretch_stiff_warp, 1.5 * fm / 0.05, 1e-14, "KES warp modulus beyond the knee"));
