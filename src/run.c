@@ -30,6 +30,7 @@ struct _n_ClothRun {
   char            restart[CLOTH_PATH_LEN];
   PetscReal       progress_seconds;
   PetscBool       monitor_energy;
+  PetscReal       gravity_ramp;    /* s over which gravity rises from 0 to full (0: full from the start) */
 
   Vec             natural_position, natural_velocity, natural_dv; /* natural_dv: the implicit warm start */
   Vec             natural_contact;                                 /* contact normals (scenes with bodies) */
@@ -104,9 +105,11 @@ PetscErrorCode ClothRunSetFromOptions(ClothRun run)
   PetscCall(PetscOptionsInt("-checkpoint_keep", "Keep only the newest N checkpoints (0: keep all)", "ClothCheckpointWrite", run->checkpoint_keep, &run->checkpoint_keep, NULL));
   PetscCall(PetscOptionsString("-restart", "Continue from this checkpoint (any number of ranks)", "ClothRunSetUp", run->restart, run->restart, sizeof(run->restart), NULL));
   PetscCall(PetscOptionsReal("-progress_seconds", "Wall seconds between progress lines (0: every step)", "ClothRunSolve", run->progress_seconds, &run->progress_seconds, NULL));
+  PetscCall(PetscOptionsReal("-gravity_ramp", "Seconds over which gravity rises linearly from 0 to its full value (0: full from the start)", "ClothRunSolve", run->gravity_ramp, &run->gravity_ramp, NULL));
   PetscCall(PetscOptionsBool("-monitor_energy", "Print kinetic, gravitational and elastic energy with every frame", "ClothRunSolve", run->monitor_energy, &run->monitor_energy, NULL));
   PetscOptionsEnd();
   PetscCheck(run->dt > 0, run->comm, PETSC_ERR_USER_INPUT, "-dt must be positive, got %g", (double)run->dt);
+  PetscCheck(run->gravity_ramp >= 0, run->comm, PETSC_ERR_USER_INPUT, "-gravity_ramp must not be negative, got %g", (double)run->gravity_ramp);
   PetscCheck(run->steps >= 0 && run->output_every >= 0 && run->checkpoint_every >= 0, run->comm, PETSC_ERR_USER_INPUT, "-steps, -output_every and -checkpoint_every must not be negative");
   if (set_grid) {
     PetscCheck(grid >= 2, run->comm, PETSC_ERR_USER_INPUT, "-grid must be at least 2, got %" PetscInt_FMT, grid);
@@ -446,7 +449,11 @@ PetscErrorCode ClothRunSolve(ClothRun run)
   PetscCall(PetscPrintf(run->comm, "Running %s: %" PetscInt_FMT " steps of %g s from step %" PetscInt_FMT "; output in %s\n", run->scene->name, run->steps, (double)run->dt, run->step, run->output_dir));
   PetscCall(ClothRunWriteFirstFrame(run));
   PetscCall(PetscLogStagePush(ClothLog.stage_steps));
+  PetscCheck(!(run->gravity_ramp > 0 && run->sewing), run->comm, PETSC_ERR_USER_INPUT, "-gravity_ramp cannot be used with seams: the sewing phases switch gravity themselves");
   while (run->step < run->steps && !stop) {
+    /* the scale at the end of the step, where implicit Euler evaluates the forces; a function of time alone,
+       so a restart continues the same ramp */
+    if (run->gravity_ramp > 0) PetscCall(ClothSetGravityScale(run->cloth, PetscMin(1.0, (run->time + run->dt) / run->gravity_ramp)));
     PetscCall(ClothIntegratorStep(run->integrator, run->dt, &ok, &stats));
     if (!ok) break;
     run->step++;
