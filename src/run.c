@@ -110,6 +110,7 @@ PetscErrorCode ClothRunSetFromOptions(ClothRun run)
   PetscOptionsEnd();
   PetscCheck(run->dt > 0, run->comm, PETSC_ERR_USER_INPUT, "-dt must be positive, got %g", (double)run->dt);
   PetscCheck(run->gravity_ramp >= 0, run->comm, PETSC_ERR_USER_INPUT, "-gravity_ramp must not be negative, got %g", (double)run->gravity_ramp);
+  PetscCheck(!(run->gravity_ramp > 0 && run->scene->nseams > 0), run->comm, PETSC_ERR_USER_INPUT, "-gravity_ramp cannot be used with seams: the sewing phases switch gravity themselves");
   PetscCheck(run->steps >= 0 && run->output_every >= 0 && run->checkpoint_every >= 0, run->comm, PETSC_ERR_USER_INPUT, "-steps, -output_every and -checkpoint_every must not be negative");
   if (set_grid) {
     PetscCheck(grid >= 2, run->comm, PETSC_ERR_USER_INPUT, "-grid must be at least 2, got %" PetscInt_FMT, grid);
@@ -449,7 +450,6 @@ PetscErrorCode ClothRunSolve(ClothRun run)
   PetscCall(PetscPrintf(run->comm, "Running %s: %" PetscInt_FMT " steps of %g s from step %" PetscInt_FMT "; output in %s\n", run->scene->name, run->steps, (double)run->dt, run->step, run->output_dir));
   PetscCall(ClothRunWriteFirstFrame(run));
   PetscCall(PetscLogStagePush(ClothLog.stage_steps));
-  PetscCheck(!(run->gravity_ramp > 0 && run->sewing), run->comm, PETSC_ERR_USER_INPUT, "-gravity_ramp cannot be used with seams: the sewing phases switch gravity themselves");
   while (run->step < run->steps && !stop) {
     /* the scale at the end of the step, where implicit Euler evaluates the forces; a function of time alone,
        so a restart continues the same ramp */
