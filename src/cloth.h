@@ -11,7 +11,7 @@
 #include "model.h"
 #include "partition.h"
 
-typedef struct _n_Cloth *Cloth;
+typedef struct _n_Cloth            *Cloth;
 typedef struct _n_ClothSelfContact *ClothSelfContact; /* see selfcontact.h */
 
 /* Energies of the whole fabric, J. */
@@ -47,6 +47,14 @@ PetscErrorCode ClothGetMasses(Cloth cloth, const PetscReal **mass, const PetscBo
 /* force = internal + gravity + damping forces at (position, velocity). position and velocity get
    their ghosts refreshed. Collective. */
 PetscErrorCode ClothComputeForces(Cloth cloth, Vec position, Vec velocity, Vec force);
+/* Moves the sliders of the bending-hysteresis friction elements (ClothAngleSlide) to the state at position,
+   the start of a step. A no-op without hysteresis. position gets its ghosts refreshed. Collective. */
+PetscErrorCode ClothUpdateHysteresis(Cloth cloth, Vec position);
+/* The sliders as a checkpoint field (natural order, 4 per particle: cos and sin of the warp chain's slider
+   angle at it, then the weft chain's; 0 where there is none). Create gives NULL without hysteresis. Collective. */
+PetscErrorCode ClothHysteresisCreateStateVec(Cloth cloth, Vec *state);
+PetscErrorCode ClothHysteresisGetState(Cloth cloth, Vec state);
+PetscErrorCode ClothHysteresisSetState(Cloth cloth, Vec state);
 /* The linearised backward Euler system of MODEL.md section 5, filtered by the constraints:
    A = S (M + h C + h^2 K) S + (I - S) and rhs = S h (F - h K v), K the positive semidefinite part of
    the stiffness. A must come from ClothCreateMatrix. Collective. */
@@ -80,7 +88,7 @@ static inline PetscReal ClothContactScale(const PetscScalar c[3])
 }
 /* One particle's filter S (row-major 3x3) from its entry c of the contact constraints (NULL: free) and
    whether it is pinned; returns whether S differs from I. */
-PetscBool ClothContactFilter(const PetscScalar *c, PetscBool pinned, PetscReal S[9]);
+PetscBool      ClothContactFilter(const PetscScalar *c, PetscBool pinned, PetscReal S[9]);
 PetscErrorCode ClothComputeEnergy(Cloth cloth, Vec position, Vec velocity, ClothEnergy *energy);
 
 /* Natural-order Vecs (PETSc's default contiguous layout, block size 3) for files. */

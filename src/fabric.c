@@ -21,12 +21,15 @@ PetscErrorCode FabricSetFromKES(const FabricKES *kes, SceneFabric *fabric)
   PetscFunctionBeginUser;
   PetscCheck(kes->weight > 0, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "KES weight W = %g mg/cm^2: expected a positive number", (double)kes->weight);
   PetscCheck((kes->lt_warp > 0) == (kes->lt_weft > 0), PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "KES tensile linearity: give LT for both warp and weft, or for neither");
-  fabric->density     = kes->weight * FABRIC_KES_WEIGHT_SI;
-  fabric->bend_warp   = kes->bend_warp * FABRIC_KES_BEND_SI;
-  fabric->bend_weft   = kes->bend_weft * FABRIC_KES_BEND_SI;
-  fabric->bend_model  = CLOTH_BEND_ANGLE;
-  fabric->shear       = kes->shear * FABRIC_KES_SHEAR_SI;
-  fabric->shear_model = CLOTH_SHEAR_CELL;
+  fabric->density    = kes->weight * FABRIC_KES_WEIGHT_SI;
+  fabric->bend_warp  = kes->bend_warp * FABRIC_KES_BEND_SI;
+  fabric->bend_weft  = kes->bend_weft * FABRIC_KES_BEND_SI;
+  fabric->bend_model = CLOTH_BEND_ANGLE;
+  /* the loop of KES-FB2 is M = B K +- HB: its width 2HB is twice the friction moment */
+  fabric->bend_hysteresis_warp = 0.5 * kes->hysteresis_warp * FABRIC_KES_MOMENT_SI;
+  fabric->bend_hysteresis_weft = 0.5 * kes->hysteresis_weft * FABRIC_KES_MOMENT_SI;
+  fabric->shear                = kes->shear * FABRIC_KES_SHEAR_SI;
+  fabric->shear_model          = CLOTH_SHEAR_CELL;
   if (kes->lt_warp > 0) {
     PetscCall(FabricBiphasicFromKES(kes->emt_warp, kes->lt_warp, &fabric->stretch_warp, &fabric->stretch_stiff_warp, &fabric->stretch_knee_warp));
     PetscCall(FabricBiphasicFromKES(kes->emt_weft, kes->lt_weft, &fabric->stretch_weft, &fabric->stretch_stiff_weft, &fabric->stretch_knee_weft));

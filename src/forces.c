@@ -3,7 +3,6 @@
 #include <petscblaslapack.h>
 #include "vec3.h"
 
-
 /* Link potential phi(l) and its first two derivatives. */
 static void LinkPotential(const ClothLink *link, PetscReal l, PetscReal *phi, PetscReal *dphi, PetscReal *d2phi)
 {
@@ -63,9 +62,9 @@ PetscInt ClothAngleParticleCount(ClothAngleKind kind)
 void ClothAngleArms(ClothAngleKind kind, PetscReal A[CLOTH_ANGLE_MAX_PARTICLES], PetscReal B[CLOTH_ANGLE_MAX_PARTICLES])
 {
   static const PetscReal arms[3][2][CLOTH_ANGLE_MAX_PARTICLES] = {
-    {{-1, 1, 0, 0},          {-1, 0, 1, 0}},         /* corner */
-    {{-1, 1, 0, 0},          {0, -1, 1, 0}},         /* chain */
-    {{-0.5, 0.5, 0.5, -0.5}, {-0.5, -0.5, 0.5, 0.5}} /* cell: d/du and d/dv of the bilinear map at the centre */
+      {{-1, 1, 0, 0}, {-1, 0, 1, 0}},                  /* corner */
+      {{-1, 1, 0, 0}, {0, -1, 1, 0}},                  /* chain */
+      {{-0.5, 0.5, 0.5, -0.5}, {-0.5, -0.5, 0.5, 0.5}} /* cell: d/du and d/dv of the bilinear map at the centre */
   };
 
   for (PetscInt k = 0; k < CLOTH_ANGLE_MAX_PARTICLES; k++) {
@@ -93,7 +92,7 @@ static void NormalizedDot(const PetscReal a[3], const PetscReal b[3], PetscReal 
       /* d2c/db_i db_j */
       Hc[6 * (3 + i) + 3 + j] = (-(a[i] * b[j] + b[i] * a[j]) - d * delta + 3.0 * d * b[i] * b[j] / nb2) * inv / nb2;
       /* d2c/da_i db_j */
-      Hc[6 * i + 3 + j] = (delta - a[i] * a[j] / na2 - b[i] * b[j] / nb2 + d * a[i] * b[j] / (na2 * nb2)) * inv;
+      Hc[6 * i + 3 + j]   = (delta - a[i] * a[j] / na2 - b[i] * b[j] / nb2 + d * a[i] * b[j] / (na2 * nb2)) * inv;
       Hc[6 * (3 + j) + i] = Hc[6 * i + 3 + j];
     }
   }
@@ -101,9 +100,9 @@ static void NormalizedDot(const PetscReal a[3], const PetscReal b[3], PetscReal 
 
 PetscErrorCode ClothAngleEvaluate(const ClothAngle *angle, const PetscReal *const x[], PetscBool psd, PetscReal *energy, PetscReal force[], PetscReal H[])
 {
-  const PetscInt  np = ClothAngleParticleCount(angle->kind), n = 3 * np;
-  PetscReal       A[CLOTH_ANGLE_MAX_PARTICLES], B[CLOTH_ANGLE_MAX_PARTICLES], a[3] = {0, 0, 0}, b[3] = {0, 0, 0}, c, s, g[6], Hc[36];
-  PetscReal       dEdc, d2Edc2;
+  const PetscInt np = ClothAngleParticleCount(angle->kind), n = 3 * np;
+  PetscReal      A[CLOTH_ANGLE_MAX_PARTICLES], B[CLOTH_ANGLE_MAX_PARTICLES], a[3] = {0, 0, 0}, b[3] = {0, 0, 0}, c, s, g[6], Hc[36];
+  PetscReal      dEdc, d2Edc2;
   /* Below this sine the cone of (theta - theta0) at theta = 0 is cut off (only matters when sin0 > 0). */
   const PetscReal sin_floor = 1e-6;
 
@@ -120,8 +119,8 @@ PetscErrorCode ClothAngleEvaluate(const ClothAngle *angle, const PetscReal *cons
   if (energy) *energy = angle->k * (1.0 - c * angle->cos0 - s * angle->sin0);
   if (angle->sin0 != 0.0) {
     const PetscReal sc = PetscMax(s, sin_floor);
-    dEdc   = -angle->k * (angle->cos0 - angle->sin0 * c / sc);
-    d2Edc2 = angle->k * angle->sin0 / (sc * sc * sc);
+    dEdc               = -angle->k * (angle->cos0 - angle->sin0 * c / sc);
+    d2Edc2             = angle->k * angle->sin0 / (sc * sc * sc);
   } else {
     dEdc   = -angle->k * angle->cos0;
     d2Edc2 = 0.0;
@@ -137,11 +136,34 @@ PetscErrorCode ClothAngleEvaluate(const ClothAngle *angle, const PetscReal *cons
     for (PetscInt k = 0; k < np; k++)
       for (PetscInt l = 0; l < np; l++)
         for (PetscInt i = 0; i < 3; i++)
-          for (PetscInt j = 0; j < 3; j++)
-            H[n * (3 * k + i) + 3 * l + j] = A[k] * A[l] * He[6 * i + j] + A[k] * B[l] * He[6 * i + 3 + j] + B[k] * A[l] * He[6 * (3 + i) + j] + B[k] * B[l] * He[6 * (3 + i) + 3 + j];
+          for (PetscInt j = 0; j < 3; j++) H[n * (3 * k + i) + 3 * l + j] = A[k] * A[l] * He[6 * i + j] + A[k] * B[l] * He[6 * i + 3 + j] + B[k] * A[l] * He[6 * (3 + i) + j] + B[k] * B[l] * He[6 * (3 + i) + 3 + j];
     if (psd) PetscCall(ClothProjectPSD(n, H));
   }
   PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+void ClothAngleSlide(ClothAngle *angle, const PetscReal *const x[])
+{
+  PetscReal A[CLOTH_ANGLE_MAX_PARTICLES], B[CLOTH_ANGLE_MAX_PARTICLES], a[3] = {0, 0, 0}, b[3] = {0, 0, 0}, axb[3], theta, rest;
+
+  if (angle->slip <= 0) return;
+  ClothAngleArms(angle->kind, A, B);
+  for (PetscInt k = 0; k < ClothAngleParticleCount(angle->kind); k++)
+    for (PetscInt i = 0; i < 3; i++) {
+      a[i] += A[k] * x[k][i];
+      b[i] += B[k] * x[k][i];
+    }
+  Cross3(a, b, axb);
+  theta = PetscAtan2Real(PetscSqrtReal(Dot3(axb, axb)), Dot3(a, b));
+  rest  = PetscAtan2Real(angle->sin0, angle->cos0);
+  if (theta - rest > angle->slip)
+    rest = theta - angle->slip;
+  else if (rest - theta > angle->slip)
+    rest = theta + angle->slip;
+  else
+    return; /* sticking */
+  angle->cos0 = PetscCosReal(rest);
+  angle->sin0 = PetscSinReal(rest);
 }
 
 PetscErrorCode ClothProjectPSD(PetscInt n, PetscReal A[])

@@ -40,7 +40,14 @@ typedef struct {
   ClothAngleKind kind;
   PetscReal      k;          /* N m */
   PetscReal      cos0, sin0; /* rest angle */
+  PetscReal      slip;       /* > 0: a friction element, its rest angle follows theta to within slip (rad); 0: elastic */
 } ClothAngle;
+
+/* Bending hysteresis (KES-FB2's loop M = B K +- HB): beside each elastic thread-bending spring, a spring of
+   CLOTH_HYSTERESIS_STIFFNESS times its stiffness in series with a Coulomb slider that gives way at the
+   friction moment HB (a Jenkins element). Stiff, so that the curvature before slipping, HB / (10 B), is
+   small against a drape's; not so stiff that it dominates the implicit system. */
+#define CLOTH_HYSTERESIS_STIFFNESS 10.0
 
 /* Energy of a link; force on p[1] (the force on p[0] is its negative); the 3x3 block K such that the
    link's Hessian is [K -K; -K K]. With psd, K is clamped to its positive semidefinite part (the
@@ -57,6 +64,13 @@ void ClothAngleArms(ClothAngleKind kind, PetscReal A[CLOTH_ANGLE_MAX_PARTICLES],
    them (np x 3, row per particle); its 3np x 3np Hessian (row-major, particle-major). With psd, the
    Hessian is projected onto the positive semidefinite cone (eigenvalues clamped at 0). Any output may be NULL. */
 PetscErrorCode ClothAngleEvaluate(const ClothAngle *angle, const PetscReal *const x[], PetscBool psd, PetscReal *energy, PetscReal force[], PetscReal H[]);
+
+/* The slider of a friction element (slip > 0) at positions x[k]: where the arms' angle theta has moved more
+   than slip from the rest angle, the rest angle follows to theta -+ slip, so that the moment
+   k (theta - theta0) never exceeds k slip = the friction moment. theta is the unsigned angle between the
+   arms, so a thread bent through straight keeps the slider's side: within slip of straight the friction
+   moment may point the wrong way (at most one friction moment, over an angle of 2 slip). */
+void ClothAngleSlide(ClothAngle *angle, const PetscReal *const x[]);
 
 /* Projects a symmetric n x n matrix (row-major, n <= 12) onto the positive semidefinite cone in place. */
 PetscErrorCode ClothProjectPSD(PetscInt n, PetscReal A[]);

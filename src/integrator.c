@@ -15,10 +15,10 @@ struct _n_ClothIntegrator {
   Vec               force, saved_position, saved_velocity, start_position, start_velocity;
   ClothCollision    collision; /* borrowed; NULL: no bodies */
   /* implicit only */
-  Mat               A;
-  KSP               ksp, fallback_ksp; /* fallback_ksp: redoes the solves whose preconditioner breaks down */
-  Vec               rhs, dv, dv_guess;
-  PetscInt          pc_fallbacks;      /* solves redone with fallback_ksp */
+  Mat      A;
+  KSP      ksp, fallback_ksp; /* fallback_ksp: redoes the solves whose preconditioner breaks down */
+  Vec      rhs, dv, dv_guess;
+  PetscInt pc_fallbacks; /* solves redone with fallback_ksp */
 };
 
 /* Is every entry of v finite? Collective. */
@@ -286,6 +286,7 @@ static PetscErrorCode StepOrHalve(ClothIntegrator integ, PetscReal h, PetscInt d
   PetscCall(VecCopy(x, integ->saved_position));
   PetscCall(VecCopy(v, integ->saved_velocity));
   PetscCall(UpdateSelfContact(integ, h));
+  PetscCall(ClothUpdateHysteresis(integ->cloth, x)); /* the sliders at the (sub-)step's start */
   PetscCall(integ->step(integ, h, ok, &its));
   stats->krylov_iterations += its;
   stats->smallest_dt = PetscMin(stats->smallest_dt, h);
@@ -335,11 +336,11 @@ PetscErrorCode ClothIntegratorGetWarmStart(ClothIntegrator integ, Vec *dv)
 
 PetscErrorCode ClothIntegratorViewSystem(ClothIntegrator integ, PetscViewer viewer)
 {
-  MatInfo     info;
-  MatType     mtype;
-  PCType      pctype;
-  PC          pc;
-  PetscInt    bs;
+  MatInfo  info;
+  MatType  mtype;
+  PCType   pctype;
+  PC       pc;
+  PetscInt bs;
 
   PetscFunctionBeginUser;
   if (!integ->A) PetscFunctionReturn(PETSC_SUCCESS);
@@ -349,7 +350,8 @@ PetscErrorCode ClothIntegratorViewSystem(ClothIntegrator integ, PetscViewer view
   PetscCall(KSPGetPC(integ->ksp, &pc));
   PetscCall(PCGetType(pc, &pctype));
   /* nz_used counts stored scalars (one triangle for SBAIJ): what every matrix pass streams */
-  PetscCall(PetscViewerASCIIPrintf(viewer, "Implicit system: %s, %" PetscInt_FMT " stored %" PetscInt_FMT "x%" PetscInt_FMT " blocks (%.1f MiB of values), preconditioner %s\n", mtype, (PetscInt)(info.nz_used / (bs * bs)), bs, bs, info.nz_used * sizeof(PetscScalar) / 1048576.0, pctype));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "Implicit system: %s, %" PetscInt_FMT " stored %" PetscInt_FMT "x%" PetscInt_FMT " blocks (%.1f MiB of values), preconditioner %s\n", mtype, (PetscInt)(info.nz_used / (bs * bs)), bs, bs,
+                                   info.nz_used * sizeof(PetscScalar) / 1048576.0, pctype));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

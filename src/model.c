@@ -28,7 +28,7 @@ static PetscReal FlatDistance(const PieceContext *pc, PetscInt a, PetscInt b)
 static PetscReal ThreadWidth(const PieceContext *pc, PetscInt i, PetscInt j, PetscBool warp)
 {
   const PetscInt n = warp ? pc->piece->nv : pc->piece->nu, at = warp ? j : i;
-  PetscReal      sum = 0;
+  PetscReal      sum   = 0;
   PetscInt       count = 0;
 
   for (PetscInt s = -1; s <= 1; s += 2) {
@@ -92,6 +92,7 @@ static void AddAngle(ClothModel model, const PieceContext *pc, ClothAngleKind ki
   nb          = PetscSqrtReal(b[0] * b[0] + b[1] * b[1]);
   angle->kind = kind;
   angle->k    = k;
+  angle->slip = 0;
   angle->cos0 = (a[0] * b[0] + a[1] * b[1]) / (na * nb);
   angle->sin0 = PetscAbsReal(a[0] * b[1] - a[1] * b[0]) / (na * nb);
 }
@@ -113,7 +114,7 @@ static void AddThreadInteractions(ClothModel model, const PieceContext *pc, Pets
         const PetscReal k     = FabricStretchLinkStiffness(fab, warp, rest, width);
         ClothLink      *link  = AddLink(model, pc->offset + a, pc->offset + b, k, rest, fab->repulsion * rest, fab->repulsion_stiffness * k);
 
-        const PetscReal knee  = warp ? fab->stretch_knee_warp : fab->stretch_knee_weft;
+        const PetscReal knee = warp ? fab->stretch_knee_warp : fab->stretch_knee_weft;
 
         if (knee > 0) { /* biphasic tensile curve (fabric.h) */
           link->knee_length = knee * rest;
@@ -129,7 +130,14 @@ static void AddThreadInteractions(ClothModel model, const PieceContext *pc, Pets
         } else {
           const PetscInt  local[3] = {a, m, b};
           const PetscReal segment  = 0.5 * (FlatDistance(pc, a, m) + FlatDistance(pc, m, b));
-          AddAngle(model, pc, CLOTH_ANGLE_CHAIN, local, FabricBendAngleStiffness(fab, warp, segment, ThreadOwnWidth(pc, i + di, j + dj, warp)));
+          const PetscReal k        = FabricBendAngleStiffness(fab, warp, segment, ThreadOwnWidth(pc, i + di, j + dj, warp));
+          const PetscReal friction = (warp ? fab->bend_hysteresis_warp : fab->bend_hysteresis_weft) * ThreadOwnWidth(pc, i + di, j + dj, warp);
+
+          AddAngle(model, pc, CLOTH_ANGLE_CHAIN, local, k);
+          if (friction > 0 && k > 0) { /* the Jenkins element of bending hysteresis (forces.h) */
+            AddAngle(model, pc, CLOTH_ANGLE_CHAIN, local, CLOTH_HYSTERESIS_STIFFNESS * k);
+            model->angles[model->nangles - 1].slip = friction / (CLOTH_HYSTERESIS_STIFFNESS * k);
+          }
         }
       }
     }
@@ -209,7 +217,7 @@ static void WrapOntoCone(const ScenePiece *piece, PetscReal x[3])
   ca = Dot3(a, g0);
   sa = PetscSqrtReal(PetscMax(0.0, 1 - ca * ca));
   for (PetscInt k = 0; k < 3; k++) e1[k] = (g0[k] - ca * a[k]) / sa; /* from the axis towards the touching line */
-  Cross3(a, e1, e2);                                                  /* lies in the plane, across g0 */
+  Cross3(a, e1, e2);                                                 /* lies in the plane, across g0 */
   Sub3(x, c, w);
   rho   = PetscSqrtReal(Dot3(w, w));
   phi   = PetscAtan2Real(Dot3(w, e2), Dot3(w, g0));
@@ -220,16 +228,18 @@ static void WrapOntoCone(const ScenePiece *piece, PetscReal x[3])
 /* Particle positions (flat pattern placed in 3D), masses and pins of one piece. */
 static PetscErrorCode AddPieceParticles(ClothModel model, const PieceContext *pc)
 {
-  const ScenePiece *piece = pc->piece;
-  const PetscInt    n     = piece->nu * piece->nv;
+  const ScenePiece *piece      = pc->piece;
+  const PetscInt    n          = piece->nu * piece->nv;
   PetscReal         total_area = 0;
 
   PetscFunctionBeginUser;
   for (PetscInt p = 0; p < n; p++) {
     PetscReal *x = &model->position[3 * (pc->offset + p)];
     for (PetscInt c = 0; c < 3; c++) x[c] = piece->origin[c] + pc->uv[2 * p] * piece->u_axis[c] + pc->uv[2 * p + 1] * piece->v_axis[c];
-    if (piece->wrapped && piece->wrap_cone) WrapOntoCone(piece, x);
-    else if (piece->wrapped) WrapOntoCylinder(piece, x);
+    if (piece->wrapped && piece->wrap_cone)
+      WrapOntoCone(piece, x);
+    else if (piece->wrapped)
+      WrapOntoCylinder(piece, x);
     model->mass[pc->offset + p] = 0;
   }
   for (PetscInt j = 0; j + 1 < piece->nv; j++)
@@ -279,6 +289,7 @@ static void AddSeamBending(ClothModel model, Scene scene, const SeamBendSite *si
     angle->k          = FabricBendAngleStiffness(fab, site->dense_warp, 0.5 * (la + lb), width);
     angle->cos0       = 1;
     angle->sin0       = 0;
+    angle->slip       = 0;
   }
 }
 
@@ -316,11 +327,11 @@ static PetscErrorCode ClothModelAllocate(Scene scene, ClothModel model)
   model->npieces         = scene->npieces;
   model->piece_offset[0] = 0;
   for (PetscInt k = 0; k < scene->npieces; k++) {
-    const PetscInt n = scene->pieces[k].nu * scene->pieces[k].nv;
+    const PetscInt n           = scene->pieces[k].nu * scene->pieces[k].nv;
     model->piece_offset[k + 1] = model->piece_offset[k] + n;
     ncells += (scene->pieces[k].nu - 1) * (scene->pieces[k].nv - 1);
-    maxlinks += 4 * n + 2 * n; /* stretch + bending (both directions) + 2 shear per cell */
-    maxangles += 4 * n + 2 * n;
+    maxlinks += 4 * n + 2 * n;          /* stretch + bending (both directions) + 2 shear per cell */
+    maxangles += 4 * n + 2 * n + 2 * n; /* corner shear + bending + its friction elements */
   }
   for (PetscInt s = 0; s < scene->nseams; s++) {
     const ScenePiece *a = &scene->pieces[scene->seams[s].a.piece], *b = &scene->pieces[scene->seams[s].b.piece];
@@ -337,7 +348,7 @@ static PetscErrorCode ClothModelAllocate(Scene scene, ClothModel model)
 
 PetscErrorCode ClothModelCreate(Scene scene, ClothModel *model)
 {
-  ClothModel m;
+  ClothModel  m;
   PetscReal **uvs;
 
   PetscFunctionBeginUser;
@@ -365,6 +376,7 @@ PetscErrorCode ClothModelCreate(Scene scene, ClothModel *model)
   for (PetscInt k = 0; k < scene->npieces; k++) PetscCall(PetscFree(uvs[k]));
   PetscCall(PetscFree(uvs));
   *model = m;
+  for (PetscInt a = 0; a < m->nangles; a++) m->nfriction += m->angles[a].slip > 0;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

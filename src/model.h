@@ -8,19 +8,20 @@
 
 typedef struct _n_ClothModel *ClothModel;
 struct _n_ClothModel {
-  PetscInt    nparticles;
-  PetscReal  *position;     /* 3 N: initial positions, m */
-  PetscReal  *mass;         /* N: kg */
-  PetscReal  *damping;      /* N: damping coefficient c_i (force -c_i v_i), kg/s */
-  PetscBool  *pinned;       /* N */
-  PetscInt    nlinks;
-  ClothLink  *links;        /* particle indices in natural order */
-  PetscInt    nangles;
-  ClothAngle *angles;
-  PetscInt    nquads;
-  PetscInt   *quads;        /* 4 per grid cell, counter-clockwise in the pattern plane */
-  PetscInt    npieces;
-  PetscInt   *piece_offset; /* npieces + 1: first particle of each piece */
+  PetscInt       nparticles;
+  PetscReal     *position; /* 3 N: initial positions, m */
+  PetscReal     *mass;     /* N: kg */
+  PetscReal     *damping;  /* N: damping coefficient c_i (force -c_i v_i), kg/s */
+  PetscBool     *pinned;   /* N */
+  PetscInt       nlinks;
+  ClothLink     *links; /* particle indices in natural order */
+  PetscInt       nangles;
+  ClothAngle    *angles;
+  PetscInt       nfriction; /* of which friction elements (slip > 0: bending hysteresis) */
+  PetscInt       nquads;
+  PetscInt      *quads; /* 4 per grid cell, counter-clockwise in the pattern plane */
+  PetscInt       npieces;
+  PetscInt      *piece_offset; /* npieces + 1: first particle of each piece */
   PetscInt       nseamlinks;
   ClothSeamLink *seamlinks; /* seam pairs (seam.h), in scene order of the seams */
 };

@@ -9,36 +9,37 @@
 #include "log.h"
 
 struct _n_ClothRun {
-  MPI_Comm        comm;
-  Scene           scene;
-  Cloth           cloth;
-  ClothIntegrator integrator;
-  ClothCollision  collision;       /* NULL when the scene has no bodies */
-  ClothOutput     output;
-  ClothSelfContact self_contact;   /* cloth-cloth collisions; attached to the cloth only when enabled */
-  ClothSewing     sewing;          /* garment assembly phases; NULL when the scene has no seams */
+  MPI_Comm         comm;
+  Scene            scene;
+  Cloth            cloth;
+  ClothIntegrator  integrator;
+  ClothCollision   collision; /* NULL when the scene has no bodies */
+  ClothOutput      output;
+  ClothSelfContact self_contact; /* cloth-cloth collisions; attached to the cloth only when enabled */
+  ClothSewing      sewing;       /* garment assembly phases; NULL when the scene has no seams */
 
-  PetscReal       dt, t_final;
-  PetscInt        steps;           /* total steps of the run (from -steps or t_final / dt) */
-  PetscInt        step;            /* steps taken so far (continues from a restart) */
-  PetscReal       time;
-  PetscInt        dt_start_step;   /* step and time at which dt came into use (0, 0 unless a restart */
-  PetscReal       dt_start_time;   /* changed dt): time = dt_start_time + dt (step - dt_start_step) */
-  PetscBool       dt_set;          /* -dt given: it overrides the step of a restart's checkpoint */
-  char            output_dir[CLOTH_PATH_LEN];
-  PetscInt        output_every, checkpoint_every, checkpoint_keep;
-  char            restart[CLOTH_PATH_LEN];
-  PetscReal       progress_seconds;
-  PetscBool       monitor_energy;
-  PetscReal       gravity_ramp;    /* s over which gravity rises from 0 to full (0: full from the start) */
+  PetscReal dt, t_final;
+  PetscInt  steps; /* total steps of the run (from -steps or t_final / dt) */
+  PetscInt  step;  /* steps taken so far (continues from a restart) */
+  PetscReal time;
+  PetscInt  dt_start_step; /* step and time at which dt came into use (0, 0 unless a restart */
+  PetscReal dt_start_time; /* changed dt): time = dt_start_time + dt (step - dt_start_step) */
+  PetscBool dt_set;        /* -dt given: it overrides the step of a restart's checkpoint */
+  char      output_dir[CLOTH_PATH_LEN];
+  PetscInt  output_every, checkpoint_every, checkpoint_keep;
+  char      restart[CLOTH_PATH_LEN];
+  PetscReal progress_seconds;
+  PetscBool monitor_energy;
+  PetscReal gravity_ramp; /* s over which gravity rises from 0 to full (0: full from the start) */
 
-  Vec             natural_position, natural_velocity, natural_dv; /* natural_dv: the implicit warm start */
-  Vec             natural_contact;                                 /* contact normals (scenes with bodies) */
-  Vec             natural_strain;                                  /* one value per particle, for frames */
-  Vec             natural_body_contact, natural_self_contact;      /* contact fields of frames (output.h); zero when off */
-  Vec             natural_sewn;                                    /* sewn seams per particle (sewing.h), checkpoints */
-  char            last_checkpoint[CLOTH_PATH_LEN];
-  PetscInt        krylov_total, substeps_total;
+  Vec      natural_position, natural_velocity, natural_dv; /* natural_dv: the implicit warm start */
+  Vec      natural_contact;                                /* contact normals (scenes with bodies) */
+  Vec      natural_strain;                                 /* one value per particle, for frames */
+  Vec      natural_body_contact, natural_self_contact;     /* contact fields of frames (output.h); zero when off */
+  Vec      natural_sewn;                                   /* sewn seams per particle (sewing.h), checkpoints */
+  Vec      natural_slider;                                 /* bending-hysteresis sliders (cloth.h), checkpoints; NULL without */
+  char     last_checkpoint[CLOTH_PATH_LEN];
+  PetscInt krylov_total, substeps_total;
 };
 
 /* The signal received, SIGTERM or SIGUSR1 (what batch schedulers send before a time limit); 0: none. */
@@ -148,10 +149,11 @@ static PetscErrorCode ClothRunFillCheckpointInfo(ClothRun run, ClothCheckpointIn
 
 /* The checkpoint fields, in natural order: position, velocity, the implicit integrator's warm start
    (without which a restarted run's first Krylov solves would start from zero and differ from an
-   uninterrupted run's at the solver tolerance; left out with with_dv false) and, in scenes with bodies,
-   the contact normals of the particles held on a body (the constraints of the next step). A field new
+   uninterrupted run's at the solver tolerance; left out with with_dv false), in scenes with bodies,
+   the contact normals of the particles held on a body (the constraints of the next step), the sewn seams,
+   and the sliders of bending hysteresis (without which the fabric would forget its friction). A field new
    state adds goes here. */
-static PetscErrorCode ClothRunCheckpointFields(ClothRun run, PetscBool with_dv, ClothCheckpointField fields[5], PetscInt *nfields)
+static PetscErrorCode ClothRunCheckpointFields(ClothRun run, PetscBool with_dv, ClothCheckpointField fields[6], PetscInt *nfields)
 {
   PetscInt n = 0;
 
@@ -161,6 +163,7 @@ static PetscErrorCode ClothRunCheckpointFields(ClothRun run, PetscBool with_dv, 
   if (with_dv) fields[n++] = (ClothCheckpointField){"implicit_dv", run->natural_dv, PETSC_FALSE, PETSC_FALSE};
   if (run->natural_contact) fields[n++] = (ClothCheckpointField){"contact_normal", run->natural_contact, PETSC_FALSE, PETSC_FALSE};
   if (run->natural_sewn) fields[n++] = (ClothCheckpointField){"seams_sewn", run->natural_sewn, PETSC_TRUE, PETSC_FALSE};
+  if (run->natural_slider) fields[n++] = (ClothCheckpointField){"bend_slider", run->natural_slider, PETSC_TRUE, PETSC_FALSE};
   *nfields = n;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -185,8 +188,10 @@ static PetscErrorCode ClothRunAdoptCheckpointSettings(ClothRun run, const ClothC
   PetscCall(PetscOptionsHasName(NULL, NULL, "-integrator", &integrator_set));
   PetscCall(ClothIntegratorGetType(run->integrator, &type));
   PetscCall(PetscStrcmp(type, info->integrator, &same_type));
-  if (!same_type && !integrator_set) PetscCall(ClothIntegratorSetType(run->integrator, info->integrator));
-  else if (!same_type) PetscCall(PetscFPrintf(run->comm, PETSC_STDERR, "WARNING: -integrator %s differs from the integrator %s of checkpoint %s: the run continues with %s, so it will not match an uninterrupted run\n", type, info->integrator, run->restart, type));
+  if (!same_type && !integrator_set)
+    PetscCall(ClothIntegratorSetType(run->integrator, info->integrator));
+  else if (!same_type)
+    PetscCall(PetscFPrintf(run->comm, PETSC_STDERR, "WARNING: -integrator %s differs from the integrator %s of checkpoint %s: the run continues with %s, so it will not match an uninterrupted run\n", type, info->integrator, run->restart, type));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -195,7 +200,7 @@ static PetscErrorCode ClothRunAdoptCheckpointSettings(ClothRun run, const ClothC
 static PetscErrorCode ClothRunRestore(ClothRun run)
 {
   ClothCheckpointInfo  expect, info;
-  ClothCheckpointField fields[5];
+  ClothCheckpointField fields[6];
   PetscInt             nfields;
   Vec                  x, v, normals;
 
@@ -217,8 +222,10 @@ static PetscErrorCode ClothRunRestore(ClothRun run)
   run->step = (PetscInt)info.step;
   run->time = info.time;
   if (run->sewing) PetscCall(ClothSewingSetStateVec(run->sewing, run->natural_sewn, run->time));
+  if (run->natural_slider) PetscCall(ClothHysteresisSetState(run->cloth, run->natural_slider));
   PetscCall(ClothRunAdoptCheckpointSettings(run, &info));
-  PetscCall(PetscPrintf(run->comm, "Restarting from %s: step %" PetscInt_FMT ", t = %.6f s, dt = %g s (written by integrator %s, %s)\n", run->restart, run->step, (double)run->time, (double)info.dt, info.integrator, fields[2].found ? "with its warm start" : "without a warm start"));
+  PetscCall(PetscPrintf(run->comm, "Restarting from %s: step %" PetscInt_FMT ", t = %.6f s, dt = %g s (written by integrator %s, %s)\n", run->restart, run->step, (double)run->time, (double)info.dt, info.integrator,
+                        fields[2].found ? "with its warm start" : "without a warm start"));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -307,6 +314,7 @@ PetscErrorCode ClothRunSetUp(ClothRun run)
     if (run->self_contact) PetscCall(ClothSelfContactSetExclusion(run->self_contact, ClothSewingExcludeContact, run->sewing));
     PetscCall(VecDuplicate(run->natural_strain, &run->natural_sewn)); /* one value per particle */
   }
+  PetscCall(ClothHysteresisCreateStateVec(run->cloth, &run->natural_slider));
   PetscCall(PetscObjectSetName((PetscObject)run->natural_position, "position"));
   PetscCall(PetscObjectSetName((PetscObject)run->natural_velocity, "velocity"));
   if (run->restart[0]) PetscCall(ClothRunRestore(run));
@@ -365,7 +373,8 @@ static PetscErrorCode ClothRunWriteFrame(ClothRun run)
     Vec         x, v;
     PetscCall(ClothGetState(run->cloth, &x, &v));
     PetscCall(ClothComputeEnergy(run->cloth, x, v, &e));
-    PetscCall(PetscPrintf(run->comm, "  energy at step %" PetscInt_FMT ": kinetic %.9e J, gravity %.9e J, elastic %.9e J, total %.9e J\n", run->step, (double)e.kinetic, (double)e.gravity, (double)e.elastic, (double)(e.kinetic + e.gravity + e.elastic)));
+    PetscCall(
+        PetscPrintf(run->comm, "  energy at step %" PetscInt_FMT ": kinetic %.9e J, gravity %.9e J, elastic %.9e J, total %.9e J\n", run->step, (double)e.kinetic, (double)e.gravity, (double)e.elastic, (double)(e.kinetic + e.gravity + e.elastic)));
   }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -373,7 +382,7 @@ static PetscErrorCode ClothRunWriteFrame(ClothRun run)
 static PetscErrorCode ClothRunWriteCheckpoint(ClothRun run)
 {
   ClothCheckpointInfo  info;
-  ClothCheckpointField fields[5];
+  ClothCheckpointField fields[6];
   PetscInt             nfields;
   Vec                  dv, normals;
 
@@ -387,6 +396,7 @@ static PetscErrorCode ClothRunWriteCheckpoint(ClothRun run)
     PetscCall(ClothScatterToNatural(run->cloth, normals, run->natural_contact, SCATTER_FORWARD));
   }
   if (run->sewing) PetscCall(ClothSewingGetStateVec(run->sewing, run->natural_sewn));
+  if (run->natural_slider) PetscCall(ClothHysteresisGetState(run->cloth, run->natural_slider));
   PetscCall(ClothRunCheckpointFields(run, dv ? PETSC_TRUE : PETSC_FALSE, fields, &nfields));
   PetscCall(ClothRunFillCheckpointInfo(run, &info));
   PetscCall(ClothCheckpointWrite(run->comm, run->output_dir, &info, nfields, fields, run->checkpoint_keep, run->last_checkpoint, sizeof(run->last_checkpoint)));
@@ -407,7 +417,8 @@ static PetscErrorCode ClothRunProgress(ClothRun run, PetscInt first_step, double
     PetscCall(ClothSewingGetStatus(run->sewing, &phase, &sewn, &total, &gap));
     PetscCall(PetscSNPrintf(sewing, sizeof(sewing), "  sewing: %s, %" PetscInt_FMT "/%" PetscInt_FMT " sewn, widest gap %.1f mm", ClothSewingPhases[phase], sewn, total, (double)(1e3 * gap)));
   }
-  PetscCall(PetscPrintf(run->comm, "step %6" PetscInt_FMT "/%" PetscInt_FMT "  t = %.5f s  wall %.2f s  KSP its %" PetscInt_FMT "%s  ETA %.1f s%s\n", run->step, run->steps, (double)run->time, wall, stats->krylov_iterations, stats->substeps > 1 ? " (step reduced)" : "", per_step * (double)(run->steps - run->step), sewing));
+  PetscCall(PetscPrintf(run->comm, "step %6" PetscInt_FMT "/%" PetscInt_FMT "  t = %.5f s  wall %.2f s  KSP its %" PetscInt_FMT "%s  ETA %.1f s%s\n", run->step, run->steps, (double)run->time, wall, stats->krylov_iterations,
+                        stats->substeps > 1 ? " (step reduced)" : "", per_step * (double)(run->steps - run->step), sewing));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -475,9 +486,11 @@ PetscErrorCode ClothRunSolve(ClothRun run)
   }
   PetscCall(PetscLogStagePop());
   PetscCall(ClothRunWriteCheckpoint(run));
-  PetscCheck(ok, run->comm, PETSC_ERR_NOT_CONVERGED, "Step %" PetscInt_FMT " failed (Krylov solver diverged or the state became non-finite) even with the step halved down to %g s; the last good state (step %" PetscInt_FMT ") is in %s", run->step + 1, (double)stats.smallest_dt, run->step, run->last_checkpoint);
-  if (stop) PetscCall(PetscPrintf(run->comm, "Stopped by %s at step %" PetscInt_FMT " of %" PetscInt_FMT " (t = %g s) after finishing the step; the state is in %s: continue with -restart %s\n", termination_requested == SIGUSR1 ? "SIGUSR1" : "SIGTERM", run->step, run->steps, (double)run->time,
-                             run->last_checkpoint, run->last_checkpoint));
+  PetscCheck(ok, run->comm, PETSC_ERR_NOT_CONVERGED, "Step %" PetscInt_FMT " failed (Krylov solver diverged or the state became non-finite) even with the step halved down to %g s; the last good state (step %" PetscInt_FMT ") is in %s", run->step + 1,
+             (double)stats.smallest_dt, run->step, run->last_checkpoint);
+  if (stop)
+    PetscCall(PetscPrintf(run->comm, "Stopped by %s at step %" PetscInt_FMT " of %" PetscInt_FMT " (t = %g s) after finishing the step; the state is in %s: continue with -restart %s\n", termination_requested == SIGUSR1 ? "SIGUSR1" : "SIGTERM",
+                          run->step, run->steps, (double)run->time, run->last_checkpoint, run->last_checkpoint));
   if (run->sewing) { /* a garment: measure how well it is assembled */
     char path[CLOTH_PATH_LEN];
     PetscCall(PetscSNPrintf(path, sizeof(path), "%s/quality.json", run->output_dir));
@@ -486,7 +499,8 @@ PetscErrorCode ClothRunSolve(ClothRun run)
   PetscCall(ClothIntegratorViewSystem(run->integrator, PETSC_VIEWER_STDOUT_(run->comm)));
   PetscCall(ClothIntegratorGetPCFallbacks(run->integrator, &fallbacks));
   if (fallbacks) PetscCall(PetscPrintf(run->comm, "Preconditioner breakdowns: %" PetscInt_FMT " solves redone by the fallback solver (-fallback_ksp_type, -fallback_pc_type)\n", fallbacks));
-  PetscCall(PetscPrintf(run->comm, "Done: %" PetscInt_FMT " steps (%" PetscInt_FMT " sub-steps), %" PetscInt_FMT " Krylov iterations, %.2f s wall. Results: %s/%s.xdmf (open in ParaView), checkpoint %s\n", run->step - first_step, run->substeps_total, run->krylov_total, WallTime() - start, run->output_dir, run->scene->name, run->last_checkpoint));
+  PetscCall(PetscPrintf(run->comm, "Done: %" PetscInt_FMT " steps (%" PetscInt_FMT " sub-steps), %" PetscInt_FMT " Krylov iterations, %.2f s wall. Results: %s/%s.xdmf (open in ParaView), checkpoint %s\n", run->step - first_step, run->substeps_total,
+                        run->krylov_total, WallTime() - start, run->output_dir, run->scene->name, run->last_checkpoint));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -539,6 +553,7 @@ PetscErrorCode ClothRunDestroy(ClothRun *run)
   PetscCall(VecDestroy(&r->natural_body_contact));
   PetscCall(VecDestroy(&r->natural_self_contact));
   PetscCall(VecDestroy(&r->natural_sewn));
+  PetscCall(VecDestroy(&r->natural_slider));
   PetscCall(PetscFree(*run));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -13,6 +13,8 @@
          bend: 10                     # link model: N/m per skip-one link; angle model: rigidity N m;
                                       # or bend_warp / bend_weft (each defaults to bend); default 0, >= 0
          bend_model: link             # link | angle (default link)
+         bend_hysteresis: 0           # angle model: friction moment HB per unit width, N m/m (KES 2HB / 2), or
+                                      # bend_hysteresis_warp / _weft; default 0 (elastic), >= 0
          damping: 0.0                 # 1/s, default 0, >= 0
          repulsion: 0.0               # fraction of rest length, in [0, 1), default 0 (off)
          repulsion_stiffness: 10      # relative to the stretch stiffness, default 10, >= 0
@@ -70,28 +72,52 @@ const char *const ClothMassDistributions[] = {"area", "uniform", "ClothMassDistr
 static const char *const SceneIntegrators[] = {"explicit", "symplectic", "implicit", "SceneIntegrator", "SCENE_INTEGRATOR_", NULL};
 
 /* Allowed keys per block (NULL-terminated). */
-static const char *const SceneTopKeys[]    = {"name", "gravity", "fabrics", "pieces", "run", "bodies", "self_collision", "seams", "sewing", NULL};
-static const char *const SceneFabricKeys[] = {"density", "stretch", "stretch_warp", "stretch_weft", "shear", "shear_model", "bend", "bend_warp", "bend_weft", "bend_model", "damping", "repulsion", "repulsion_stiffness", "preset", "kes", "stretch_knee", "stretch_knee_warp", "stretch_knee_weft", "stretch_stiff", "stretch_stiff_warp", "stretch_stiff_weft", NULL};
-static const char *const ScenePieceKeys[]  = {"name", "fabric", "grid", "size", "boundaries", "origin", "u_axis", "v_axis", "mass", "pins", "pin_disc", "pin_box", "wrap", NULL};
-static const char *const SceneWrapKeys[]     = {"axis_point", "apex", "axis", NULL};
-static const char *const SceneBoundaryKeys[] = {"bottom", "right", "top", "left", "nodes", NULL}; /* bottom, right, top, left: the order of ScenePiece.boundary_* */
-static const char *const SceneKESKeys[]      = {"W", "B_warp", "B_weft", "G", "EMT_warp", "EMT_weft", "LT_warp", "LT_weft", NULL};
-static const char *const SceneArcKeys[]      = {"center", "radius", "from", "to", "segments", NULL};
-static const char *const ScenePinDiscKeys[]  = {"center", "radius", NULL};
-static const char *const ScenePinBoxKeys[]   = {"min", "max", NULL};
-static const char *const SceneRunKeys[]    = {"integrator", "dt", "t_final", "steps", "output_every", "checkpoint_every", NULL};
-static const char *const SceneBodyKeys[]   = {"name", "type", "center", "radius", "point", "normal", "file", "scale", "rotation", "translation", "friction", "thickness", NULL};
-static const char *const SceneFrictionKeys[] = {"static", "kinetic", NULL};
-static const char *const SceneSeamKeys[]       = {"name", "a", "b", "bend", NULL};
-static const char *const SceneSeamSideKeys[]   = {"piece", "side", "from", "to", NULL};
-static const char *const SceneSewingKeys[]     = {"pull_acceleration", "pull_radius", "sewn_stiffness", "tolerance", "max_time", "pull_friction", NULL};
-const char *const        ClothPieceSides[]     = {"bottom", "right", "top", "left", "ClothPieceSide", "CLOTH_SIDE_", NULL};
+static const char *const SceneTopKeys[]           = {"name", "gravity", "fabrics", "pieces", "run", "bodies", "self_collision", "seams", "sewing", NULL};
+static const char *const SceneFabricKeys[]        = {"density",
+                                                     "stretch",
+                                                     "stretch_warp",
+                                                     "stretch_weft",
+                                                     "shear",
+                                                     "shear_model",
+                                                     "bend",
+                                                     "bend_warp",
+                                                     "bend_weft",
+                                                     "bend_model",
+                                                     "bend_hysteresis",
+                                                     "bend_hysteresis_warp",
+                                                     "bend_hysteresis_weft",
+                                                     "damping",
+                                                     "repulsion",
+                                                     "repulsion_stiffness",
+                                                     "preset",
+                                                     "kes",
+                                                     "stretch_knee",
+                                                     "stretch_knee_warp",
+                                                     "stretch_knee_weft",
+                                                     "stretch_stiff",
+                                                     "stretch_stiff_warp",
+                                                     "stretch_stiff_weft",
+                                                     NULL};
+static const char *const ScenePieceKeys[]         = {"name", "fabric", "grid", "size", "boundaries", "origin", "u_axis", "v_axis", "mass", "pins", "pin_disc", "pin_box", "wrap", NULL};
+static const char *const SceneWrapKeys[]          = {"axis_point", "apex", "axis", NULL};
+static const char *const SceneBoundaryKeys[]      = {"bottom", "right", "top", "left", "nodes", NULL}; /* bottom, right, top, left: the order of ScenePiece.boundary_* */
+static const char *const SceneKESKeys[]           = {"W", "B_warp", "B_weft", "G", "EMT_warp", "EMT_weft", "LT_warp", "LT_weft", "2HB_warp", "2HB_weft", NULL};
+static const char *const SceneArcKeys[]           = {"center", "radius", "from", "to", "segments", NULL};
+static const char *const ScenePinDiscKeys[]       = {"center", "radius", NULL};
+static const char *const ScenePinBoxKeys[]        = {"min", "max", NULL};
+static const char *const SceneRunKeys[]           = {"integrator", "dt", "t_final", "steps", "output_every", "checkpoint_every", NULL};
+static const char *const SceneBodyKeys[]          = {"name", "type", "center", "radius", "point", "normal", "file", "scale", "rotation", "translation", "friction", "thickness", NULL};
+static const char *const SceneFrictionKeys[]      = {"static", "kinetic", NULL};
+static const char *const SceneSeamKeys[]          = {"name", "a", "b", "bend", NULL};
+static const char *const SceneSeamSideKeys[]      = {"piece", "side", "from", "to", NULL};
+static const char *const SceneSewingKeys[]        = {"pull_acceleration", "pull_radius", "sewn_stiffness", "tolerance", "max_time", "pull_friction", NULL};
+const char *const        ClothPieceSides[]        = {"bottom", "right", "top", "left", "ClothPieceSide", "CLOTH_SIDE_", NULL};
 static const char *const SceneSelfCollisionKeys[] = {"enabled", "thickness", "stiffness", "exclude_ring", "same_piece", NULL};
 /* YAML booleans, in the enum-list style of ReadChoice (index 0 = false, 1 = true). */
 static const char *const SceneBooleans[] = {"false", "true", "SceneBoolean", "SCENE_BOOLEAN_", NULL};
 /* The keys that only one type of body uses, per SceneBodyType (NULL-terminated). */
 static const char *const SceneBodyTypeKeys[][5] = {{"center", "radius", NULL}, {"point", "normal", NULL}, {"file", "scale", "rotation", "translation", NULL}};
-const char *const SceneBodyTypes[] = {"sphere", "plane", "mesh", "SceneBodyType", "SCENE_BODY_", NULL};
+const char *const        SceneBodyTypes[]       = {"sphere", "plane", "mesh", "SceneBodyType", "SCENE_BODY_", NULL};
 
 #define SCENE_ORTHOGONALITY_TOL 1e-6
 #define SCENE_TEXT_LEN 1024    /* room for an expectation or a description in a message */
@@ -585,6 +611,8 @@ static PetscErrorCode ReadFabricKES(SceneReader *r, yaml_node_t *map, SceneFabri
   PetscCall(ReadReal(r, node, "EMT_weft", PETSC_TRUE, SCENE_REAL_POSITIVE, "%", &kes.emt_weft));
   PetscCall(ReadReal(r, node, "LT_warp", PETSC_FALSE, SCENE_REAL_POSITIVE, NULL, &kes.lt_warp));
   PetscCall(ReadReal(r, node, "LT_weft", PETSC_FALSE, SCENE_REAL_POSITIVE, NULL, &kes.lt_weft));
+  PetscCall(ReadReal(r, node, "2HB_warp", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "gf cm/cm", &kes.hysteresis_warp));
+  PetscCall(ReadReal(r, node, "2HB_weft", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "gf cm/cm", &kes.hysteresis_weft));
   if ((kes.lt_warp > 0) != (kes.lt_weft > 0) || (kes.lt_warp > 0 && (kes.lt_warp <= 0.5 || kes.lt_warp >= 1.5 || kes.lt_weft <= 0.5 || kes.lt_weft >= 1.5)))
     PetscCall(SceneFailValue(r, node, "kes", "LT_warp and LT_weft both given or both absent, each in (0.5, 1.5) (a biphasic curve with its knee at EMT/2)"));
   PetscCall(FabricSetFromKES(&kes, fabric));
@@ -627,6 +655,8 @@ static PetscErrorCode SceneReadFabric(SceneReader *r, yaml_node_t *name, yaml_no
   PetscCall(ReadChoice(r, map, "shear_model", PETSC_FALSE, ClothShearModels, &shear_model));
   PetscCall(ReadChoice(r, map, "bend_model", PETSC_FALSE, ClothBendModels, &bend_model));
   PetscCall(ReadWarpWeft(r, map, "bend", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, bend_model == CLOTH_BEND_LINK ? "N/m per skip-one link" : "bending rigidity, N m", &fabric->bend_warp, &fabric->bend_weft));
+  PetscCall(ReadWarpWeft(r, map, "bend_hysteresis", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "friction moment per unit width HB, N m/m", &fabric->bend_hysteresis_warp, &fabric->bend_hysteresis_weft));
+  if ((fabric->bend_hysteresis_warp > 0 || fabric->bend_hysteresis_weft > 0) && bend_model != CLOTH_BEND_ANGLE) PetscCall(SceneFailValue(r, map, "bend_hysteresis", "bending hysteresis needs bend_model: angle"));
   PetscCall(ReadReal(r, map, "damping", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "1/s", &fabric->damping));
   PetscCall(ReadReal(r, map, "repulsion", PETSC_FALSE, SCENE_REAL_FRACTION, "fraction of the rest length", &fabric->repulsion));
   PetscCall(ReadReal(r, map, "repulsion_stiffness", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "relative to the stretch stiffness", &fabric->repulsion_stiffness));
@@ -796,8 +826,9 @@ static PetscErrorCode CheckBoundaryCorners(SceneReader *r, yaml_node_t *node, co
 
     /* 1e-6 of the outline's size: coordinates typed with 7 digits still join */
     if (PetscSqrtReal(PetscSqr(p[0] - q[0]) + PetscSqr(p[1] - q[1])) > 1e-6 * extent)
-      PetscCall(SceneFailValue(r, node, "boundaries", "boundaries that meet at the corners (bottom and left from corner (0, 0), bottom to right, left to top, right and top to the far corner); here the %s of %s is (%g, %g) but the %s of %s is (%g, %g)", meet[c][1] ? "end" : "start",
-                               SceneBoundaryKeys[meet[c][0]], (double)p[0], (double)p[1], meet[c][3] ? "end" : "start", SceneBoundaryKeys[meet[c][2]], (double)q[0], (double)q[1]));
+      PetscCall(SceneFailValue(r, node, "boundaries",
+                               "boundaries that meet at the corners (bottom and left from corner (0, 0), bottom to right, left to top, right and top to the far corner); here the %s of %s is (%g, %g) but the %s of %s is (%g, %g)",
+                               meet[c][1] ? "end" : "start", SceneBoundaryKeys[meet[c][0]], (double)p[0], (double)p[1], meet[c][3] ? "end" : "start", SceneBoundaryKeys[meet[c][2]], (double)q[0], (double)q[1]));
   }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -821,7 +852,9 @@ static PetscErrorCode ReadBoundaries(SceneReader *r, yaml_node_t *map, ScenePiec
   if (!nodes) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(ReadIntList(r, node, "nodes", PETSC_TRUE, 4, 2, count));
   if (count[0] != count[2] || count[1] != count[3])
-    PetscCall(SceneFailValue(r, nodes, "nodes", "node counts [bottom, right, top, left] with bottom = top and right = left (opposite boundaries carry the same threads); here bottom %" PetscInt_FMT ", top %" PetscInt_FMT ", right %" PetscInt_FMT ", left %" PetscInt_FMT, count[0], count[2], count[1], count[3]));
+    PetscCall(SceneFailValue(r, nodes, "nodes",
+                             "node counts [bottom, right, top, left] with bottom = top and right = left (opposite boundaries carry the same threads); here bottom %" PetscInt_FMT ", top %" PetscInt_FMT ", right %" PetscInt_FMT ", left %" PetscInt_FMT,
+                             count[0], count[2], count[1], count[3]));
   piece->grid_given[0] = count[0];
   piece->grid_given[1] = count[1];
   *nodes_given         = PETSC_TRUE;
@@ -875,7 +908,8 @@ static PetscErrorCode ReadGridAndSize(SceneReader *r, yaml_node_t *map, ScenePie
     PetscCall(PatternFindFoldedCell(piece, &i, &j, &area));
     PetscCall(SceneGetValue(r, map, "boundaries", &node));
     if (i >= 0)
-      PetscCall(SceneFailValue(r, node, "boundaries", "an outline whose %" PetscInt_FMT " x %" PetscInt_FMT " transfinite grid has no folded cell; cell (%" PetscInt_FMT ", %" PetscInt_FMT ") has area %g m^2: " PATTERN_FOLD_ADVICE, piece->nu, piece->nv, i, j, (double)area));
+      PetscCall(SceneFailValue(r, node, "boundaries", "an outline whose %" PetscInt_FMT " x %" PetscInt_FMT " transfinite grid has no folded cell; cell (%" PetscInt_FMT ", %" PetscInt_FMT ") has area %g m^2: " PATTERN_FOLD_ADVICE, piece->nu,
+                               piece->nv, i, j, (double)area));
   }
   PetscCall(SceneGetValue(r, map, "size", &node));
   if (node && piece->has_boundaries) PetscCall(SceneFailValue(r, node, "size", "no size when the piece has boundaries (its outline gives its size)"));
@@ -905,7 +939,7 @@ static PetscErrorCode ReadWrap(SceneReader *r, yaml_node_t *map, ScenePiece *pie
   piece->wrap_cone = apex ? PETSC_TRUE : PETSC_FALSE;
   PetscCall(ReadRealList(r, wrap, apex ? "apex" : "axis_point", PETSC_TRUE, 3, SCENE_REAL_ANY, "m", piece->wrap_point));
   piece->wrap_axis[0] = piece->wrap_axis[2] = 0;
-  piece->wrap_axis[1] = 1;
+  piece->wrap_axis[1]                       = 1;
   PetscCall(ReadDirection(r, wrap, "axis", piece->wrap_axis));
   normal[0] = piece->u_axis[1] * piece->v_axis[2] - piece->u_axis[2] * piece->v_axis[1];
   normal[1] = piece->u_axis[2] * piece->v_axis[0] - piece->u_axis[0] * piece->v_axis[2];
@@ -914,7 +948,8 @@ static PetscErrorCode ReadWrap(SceneReader *r, yaml_node_t *map, ScenePiece *pie
   for (PetscInt c = 0; c < 3; c++) offset += normal[c] * (piece->origin[c] - piece->wrap_point[c]);
   if (piece->wrap_cone) {
     if (PetscAbsReal(offset) > 1e-6) PetscCall(SceneFailValue(r, wrap, "wrap", "an apex in the piece's plane (the cone touches the plane along a line through its apex)"));
-    if (PetscAbsReal(along) < SCENE_ORTHOGONALITY_TOL || PetscAbsReal(along) > 1 - SCENE_ORTHOGONALITY_TOL) PetscCall(SceneFailValue(r, wrap, "wrap", "an axis at an angle strictly between 0 and 90 degrees to the piece's plane (the cone's half-angle)"));
+    if (PetscAbsReal(along) < SCENE_ORTHOGONALITY_TOL || PetscAbsReal(along) > 1 - SCENE_ORTHOGONALITY_TOL)
+      PetscCall(SceneFailValue(r, wrap, "wrap", "an axis at an angle strictly between 0 and 90 degrees to the piece's plane (the cone's half-angle)"));
   } else {
     if (PetscAbsReal(along) > SCENE_ORTHOGONALITY_TOL) PetscCall(SceneFailValue(r, wrap, "wrap", "an axis parallel to the piece's plane (u_axis, v_axis)"));
     if (PetscAbsReal(offset) < 1e-6) PetscCall(SceneFailValue(r, wrap, "wrap", "an axis_point off the piece's plane (the cylinder's radius is its distance from the plane)"));
@@ -1035,8 +1070,10 @@ static PetscErrorCode ReadBodyFile(SceneReader *r, yaml_node_t *map, SceneBody *
 
   PetscFunctionBeginUser;
   PetscCall(ReadString(r, map, "file", PETSC_TRUE, file, sizeof(file), NULL));
-  if (file[0] == '/' || !slash) PetscCall(PetscStrncpy(body->file, file, sizeof(body->file)));
-  else PetscCall(PetscSNPrintf(body->file, sizeof(body->file), "%.*s/%s", (int)(slash - r->path), r->path, file));
+  if (file[0] == '/' || !slash)
+    PetscCall(PetscStrncpy(body->file, file, sizeof(body->file)));
+  else
+    PetscCall(PetscSNPrintf(body->file, sizeof(body->file), "%.*s/%s", (int)(slash - r->path), r->path, file));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -1052,8 +1089,8 @@ static PetscErrorCode SceneReadBody(SceneReader *r, yaml_node_t *map, Scene scen
   PetscCall(ReadString(r, map, "name", PETSC_FALSE, body->name, sizeof(body->name), NULL));
   PetscCall(PetscSNPrintf(r->block, sizeof(r->block), "body '%s'", body->name));
   PetscCall(ReadChoice(r, map, "type", PETSC_TRUE, SceneBodyTypes, &type));
-  body->type  = (SceneBodyType)type;
-  body->scale = 1;
+  body->type      = (SceneBodyType)type;
+  body->scale     = 1;
   body->normal[1] = 1;
   PetscCall(SceneCheckBodyTypeKeys(r, map, body));
   if (body->type == SCENE_BODY_SPHERE) {
@@ -1414,6 +1451,7 @@ static PetscErrorCode SceneFabricView(const SceneFabric *f, PetscViewer viewer)
     PetscCall(SceneAppendItem(list, sizeof(list), "beyond strain %g/%g: %g/%g N/m", (double)f->stretch_knee_warp, (double)f->stretch_knee_weft, (double)f->stretch_stiff_warp, (double)f->stretch_stiff_weft));
   PetscCall(SceneAppendItem(list, sizeof(list), "shear %g N/m (%s)", (double)f->shear, ClothShearModels[f->shear_model]));
   PetscCall(SceneAppendItem(list, sizeof(list), "bend %g/%g %s (warp/weft, %s)", (double)f->bend_warp, (double)f->bend_weft, f->bend_model == CLOTH_BEND_LINK ? "N/m" : "N m", ClothBendModels[f->bend_model]));
+  if (f->bend_hysteresis_warp > 0 || f->bend_hysteresis_weft > 0) PetscCall(SceneAppendItem(list, sizeof(list), "bending friction HB %g/%g N m/m (warp/weft)", (double)f->bend_hysteresis_warp, (double)f->bend_hysteresis_weft));
   PetscCall(SceneAppendItem(list, sizeof(list), "damping %g 1/s", (double)f->damping));
   if (f->repulsion > 0)
     PetscCall(SceneAppendItem(list, sizeof(list), "repulsion below %g of the rest length (stiffness x %g)", (double)f->repulsion, (double)f->repulsion_stiffness));
@@ -1431,8 +1469,10 @@ static PetscErrorCode ScenePieceView(Scene scene, const ScenePiece *p, PetscView
   PetscCall(SceneAppendItem(list, sizeof(list), "fabric '%s'", scene->fabrics[p->fabric].name));
   PetscCall(SceneAppendItem(list, sizeof(list), "grid %" PetscInt_FMT " x %" PetscInt_FMT " = %" PetscInt_FMT " particles", p->nu, p->nv, p->nu * p->nv));
   if (p->has_boundaries)
-    PetscCall(SceneAppendItem(list, sizeof(list), "outline from 4 boundaries (%" PetscInt_FMT "/%" PetscInt_FMT "/%" PetscInt_FMT "/%" PetscInt_FMT " vertices)", p->boundary_npoints[0], p->boundary_npoints[1], p->boundary_npoints[2], p->boundary_npoints[3]));
-  else PetscCall(SceneAppendItem(list, sizeof(list), "size %g x %g m", (double)p->size[0], (double)p->size[1]));
+    PetscCall(SceneAppendItem(list, sizeof(list), "outline from 4 boundaries (%" PetscInt_FMT "/%" PetscInt_FMT "/%" PetscInt_FMT "/%" PetscInt_FMT " vertices)", p->boundary_npoints[0], p->boundary_npoints[1], p->boundary_npoints[2],
+                              p->boundary_npoints[3]));
+  else
+    PetscCall(SceneAppendItem(list, sizeof(list), "size %g x %g m", (double)p->size[0], (double)p->size[1]));
   PetscCall(SceneAppendItem(list, sizeof(list), "mass %s", ClothMassDistributions[p->mass_distribution]));
   PetscCall(SceneAppendItem(list, sizeof(list), "%" PetscInt_FMT " pin%s", p->npins, p->npins == 1 ? "" : "s"));
   if (p->pin_disc[2] > 0) PetscCall(SceneAppendItem(list, sizeof(list), "pinned within %g m of (%g, %g)", (double)p->pin_disc[2], (double)p->pin_disc[0], (double)p->pin_disc[1]));
@@ -1467,10 +1507,13 @@ static PetscErrorCode SceneBodyView(const SceneBody *b, PetscViewer viewer)
   char list[SCENE_TEXT_LEN] = "";
 
   PetscFunctionBeginUser;
-  if (b->type == SCENE_BODY_SPHERE) PetscCall(SceneAppendItem(list, sizeof(list), "sphere, center (%g, %g, %g) m, radius %g m", (double)b->center[0], (double)b->center[1], (double)b->center[2], (double)b->radius));
-  else if (b->type == SCENE_BODY_PLANE) PetscCall(SceneAppendItem(list, sizeof(list), "plane through (%g, %g, %g) m, normal (%g, %g, %g)", (double)b->point[0], (double)b->point[1], (double)b->point[2], (double)b->normal[0], (double)b->normal[1], (double)b->normal[2]));
+  if (b->type == SCENE_BODY_SPHERE)
+    PetscCall(SceneAppendItem(list, sizeof(list), "sphere, center (%g, %g, %g) m, radius %g m", (double)b->center[0], (double)b->center[1], (double)b->center[2], (double)b->radius));
+  else if (b->type == SCENE_BODY_PLANE)
+    PetscCall(SceneAppendItem(list, sizeof(list), "plane through (%g, %g, %g) m, normal (%g, %g, %g)", (double)b->point[0], (double)b->point[1], (double)b->point[2], (double)b->normal[0], (double)b->normal[1], (double)b->normal[2]));
   else
-    PetscCall(SceneAppendItem(list, sizeof(list), "mesh %s, scale %g, rotation (%g, %g, %g) deg, translation (%g, %g, %g) m", b->file, (double)b->scale, (double)b->rotation[0], (double)b->rotation[1], (double)b->rotation[2], (double)b->translation[0], (double)b->translation[1], (double)b->translation[2]));
+    PetscCall(SceneAppendItem(list, sizeof(list), "mesh %s, scale %g, rotation (%g, %g, %g) deg, translation (%g, %g, %g) m", b->file, (double)b->scale, (double)b->rotation[0], (double)b->rotation[1], (double)b->rotation[2],
+                              (double)b->translation[0], (double)b->translation[1], (double)b->translation[2]));
   PetscCall(SceneAppendItem(list, sizeof(list), "friction %g/%g (static/kinetic), thickness %g m", (double)b->friction_static, (double)b->friction_kinetic, (double)b->thickness));
   PetscCall(PetscViewerASCIIPrintf(viewer, "body '%s': %s\n", b->name, list));
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -1497,7 +1540,8 @@ PetscErrorCode SceneView(Scene scene, PetscViewer viewer)
   PetscCall(SceneRunView(&scene->run, viewer));
   for (PetscInt b = 0; b < scene->nbodies; b++) PetscCall(SceneBodyView(&scene->bodies[b], viewer));
   if (scene->self_collision.enabled)
-    PetscCall(PetscViewerASCIIPrintf(viewer, "self-collision: thickness %g m, stiffness %g N/m, %" PetscInt_FMT " ring(s) excluded%s\n", (double)scene->self_collision.thickness, (double)scene->self_collision.stiffness, scene->self_collision.exclude_ring, scene->self_collision.same_piece ? "" : ", pieces do not collide with themselves"));
+    PetscCall(PetscViewerASCIIPrintf(viewer, "self-collision: thickness %g m, stiffness %g N/m, %" PetscInt_FMT " ring(s) excluded%s\n", (double)scene->self_collision.thickness, (double)scene->self_collision.stiffness,
+                                     scene->self_collision.exclude_ring, scene->self_collision.same_piece ? "" : ", pieces do not collide with themselves"));
   PetscCall(PetscViewerASCIIPopTab(viewer));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

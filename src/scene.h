@@ -15,53 +15,55 @@ typedef enum {
 extern const char *const ClothShearModels[];
 
 typedef enum {
-  CLOTH_BEND_LINK,  /* links between particles two steps apart along a thread (the paper's "particle 3") */
-  CLOTH_BEND_ANGLE  /* springs on the angle between consecutive thread segments */
+  CLOTH_BEND_LINK, /* links between particles two steps apart along a thread (the paper's "particle 3") */
+  CLOTH_BEND_ANGLE /* springs on the angle between consecutive thread segments */
 } ClothBendModel;
 extern const char *const ClothBendModels[];
 
 typedef enum {
-  CLOTH_MASS_AREA,    /* each particle carries density x its share of the cell areas (default) */
-  CLOTH_MASS_UNIFORM  /* every particle of a piece carries density x piece area / particle count */
+  CLOTH_MASS_AREA,   /* each particle carries density x its share of the cell areas (default) */
+  CLOTH_MASS_UNIFORM /* every particle of a piece carries density x piece area / particle count */
 } ClothMassDistribution;
 extern const char *const ClothMassDistributions[];
 
 /* A fabric's material data. Stiffnesses are per unit width (membrane moduli), so that the model's
    coefficients follow from the local grid spacing (see fabric.h). */
 typedef struct {
-  char                  name[CLOTH_NAME_LEN];
-  PetscReal             density;                   /* areal density, kg/m^2 (> 0) */
-  PetscReal             stretch_warp;              /* tensile 2D modulus along the warp (u, i) threads, N/m (> 0) */
-  PetscReal             stretch_weft;              /* the same along the weft (v, j) threads, N/m (> 0) */
-  PetscReal             shear;                     /* in-plane shear modulus, N/m (>= 0) */
-  ClothShearModel       shear_model;
-  PetscReal             bend_warp, bend_weft;      /* link model: N/m per skip-one link; angle model: bending rigidity, N m (>= 0) */
-  ClothBendModel        bend_model;
-  PetscReal             damping;                   /* mass-proportional damping rate, 1/s (>= 0): force -damping m v */
-  PetscReal             repulsion;                 /* stretch links repel below this fraction of their rest length (0 = off, < 1) */
-  PetscReal             repulsion_stiffness;       /* stiffness of that repulsion relative to the link's stretch stiffness (>= 0) */
-  PetscReal             stretch_knee_warp;         /* biphasic tensile curve: strain beyond which warp links stiffen (0 = linear) */
-  PetscReal             stretch_knee_weft;         /* the same for the weft links */
-  PetscReal             stretch_stiff_warp;        /* tensile 2D modulus beyond the knee, warp, N/m (defaults to stretch_warp) */
-  PetscReal             stretch_stiff_weft;        /* the same along the weft, N/m */
-  char                  preset[CLOTH_NAME_LEN];    /* measured fabric it starts from ("" = none; see fabric_presets.h) */
+  char            name[CLOTH_NAME_LEN];
+  PetscReal       density;      /* areal density, kg/m^2 (> 0) */
+  PetscReal       stretch_warp; /* tensile 2D modulus along the warp (u, i) threads, N/m (> 0) */
+  PetscReal       stretch_weft; /* the same along the weft (v, j) threads, N/m (> 0) */
+  PetscReal       shear;        /* in-plane shear modulus, N/m (>= 0) */
+  ClothShearModel shear_model;
+  PetscReal       bend_warp, bend_weft; /* link model: N/m per skip-one link; angle model: bending rigidity, N m (>= 0) */
+  ClothBendModel  bend_model;
+  PetscReal       bend_hysteresis_warp;   /* angle model: friction moment per unit width HB (half the KES 2HB), N m/m (>= 0; 0 = elastic) */
+  PetscReal       bend_hysteresis_weft;   /* the same for bending the weft threads */
+  PetscReal       damping;                /* mass-proportional damping rate, 1/s (>= 0): force -damping m v */
+  PetscReal       repulsion;              /* stretch links repel below this fraction of their rest length (0 = off, < 1) */
+  PetscReal       repulsion_stiffness;    /* stiffness of that repulsion relative to the link's stretch stiffness (>= 0) */
+  PetscReal       stretch_knee_warp;      /* biphasic tensile curve: strain beyond which warp links stiffen (0 = linear) */
+  PetscReal       stretch_knee_weft;      /* the same for the weft links */
+  PetscReal       stretch_stiff_warp;     /* tensile 2D modulus beyond the knee, warp, N/m (defaults to stretch_warp) */
+  PetscReal       stretch_stiff_weft;     /* the same along the weft, N/m */
+  char            preset[CLOTH_NAME_LEN]; /* measured fabric it starts from ("" = none; see fabric_presets.h) */
 } SceneFabric;
 
 /* A flat pattern piece: a logical grid of nu x nv particles (i along u = warp, j along v = weft),
    particle (i, j) numbered j*nu + i within the piece ("row by row"). */
 typedef struct {
   char                  name[CLOTH_NAME_LEN];
-  PetscInt              fabric;        /* index into Scene.fabrics */
-  PetscInt              nu, nv;        /* grid size (>= 2 each) */
-  PetscReal             size[2];       /* rectangle: extent along u and v, m */
-  PetscReal             origin[3];     /* 3D position of particle (0, 0), m */
-  PetscReal             u_axis[3];     /* unit 3D direction of increasing i (normalised by the reader) */
-  PetscReal             v_axis[3];     /* unit 3D direction of increasing j (normalised, orthogonal to u_axis) */
+  PetscInt              fabric;    /* index into Scene.fabrics */
+  PetscInt              nu, nv;    /* grid size (>= 2 each) */
+  PetscReal             size[2];   /* rectangle: extent along u and v, m */
+  PetscReal             origin[3]; /* 3D position of particle (0, 0), m */
+  PetscReal             u_axis[3]; /* unit 3D direction of increasing i (normalised by the reader) */
+  PetscReal             v_axis[3]; /* unit 3D direction of increasing j (normalised, orthogonal to u_axis) */
   ClothMassDistribution mass_distribution;
   PetscInt              npins;
-  PetscInt             *pins;          /* 2*npins grid indices (i, j), already resolved to 0 <= i < nu, 0 <= j < nv */
-  PetscInt             *pins_given;    /* 2*npins indices exactly as written (negative counts from the end), for -grid */
-  PetscInt              grid_given[2]; /* nu, nv as written in the file (before any SceneSetGridSize) */
+  PetscInt             *pins;                /* 2*npins grid indices (i, j), already resolved to 0 <= i < nu, 0 <= j < nv */
+  PetscInt             *pins_given;          /* 2*npins indices exactly as written (negative counts from the end), for -grid */
+  PetscInt              grid_given[2];       /* nu, nv as written in the file (before any SceneSetGridSize) */
   PetscBool             has_boundaries;      /* outline from four boundaries (MODEL.md section 3) instead of size */
   PetscInt              boundary_npoints[4]; /* vertices of the bottom, right, top, left polylines */
   PetscReal            *boundary_points[4];  /* 2 * npoints pattern-plane coordinates (u, v), m, each */
@@ -74,12 +76,12 @@ typedef struct {
 } ScenePiece;
 
 typedef struct {
-  char        integrator[CLOTH_NAME_LEN]; /* "" when the scene gives no default */
-  PetscReal   dt;                         /* 0 when not given */
-  PetscReal   t_final;                    /* 0 when not given */
-  PetscInt    steps;                      /* 0 when not given */
-  PetscInt    output_every;               /* 0 when not given */
-  PetscInt    checkpoint_every;           /* 0 when not given */
+  char      integrator[CLOTH_NAME_LEN]; /* "" when the scene gives no default */
+  PetscReal dt;                         /* 0 when not given */
+  PetscReal t_final;                    /* 0 when not given */
+  PetscInt  steps;                      /* 0 when not given */
+  PetscInt  output_every;               /* 0 when not given */
+  PetscInt  checkpoint_every;           /* 0 when not given */
 } SceneRunDefaults;
 
 typedef enum {
@@ -93,20 +95,20 @@ extern const char *const SceneBodyTypes[];
 typedef struct {
   char          name[CLOTH_NAME_LEN];
   SceneBodyType type;
-  PetscReal     center[3], radius;          /* sphere, m */
-  PetscReal     point[3], normal[3];        /* plane: a point on it (m) and its unit outward normal */
-  char          file[CLOTH_PATH_LEN];       /* mesh: OBJ path, resolved relative to the scene file's directory */
-  PetscReal     scale;                      /* mesh: file units -> m (default 1) */
-  PetscReal     rotation[3];                /* mesh: degrees about x, then y, then z (after scaling) */
-  PetscReal     translation[3];             /* mesh: m, applied last */
-  PetscReal     friction_static;            /* Coulomb coefficients (>= 0), default 0 */
+  PetscReal     center[3], radius;    /* sphere, m */
+  PetscReal     point[3], normal[3];  /* plane: a point on it (m) and its unit outward normal */
+  char          file[CLOTH_PATH_LEN]; /* mesh: OBJ path, resolved relative to the scene file's directory */
+  PetscReal     scale;                /* mesh: file units -> m (default 1) */
+  PetscReal     rotation[3];          /* mesh: degrees about x, then y, then z (after scaling) */
+  PetscReal     translation[3];       /* mesh: m, applied last */
+  PetscReal     friction_static;      /* Coulomb coefficients (>= 0), default 0 */
   PetscReal     friction_kinetic;
-  PetscReal     thickness;                  /* m (>= 0): the cloth is kept this far outside the surface */
+  PetscReal     thickness; /* m (>= 0): the cloth is kept this far outside the surface */
 } SceneBody;
 
 /* Cloth-cloth collisions (self_collision: block; see selfcontact.h). Off unless enabled. */
 typedef struct {
-  PetscBool given;        /* the block is present */
+  PetscBool given; /* the block is present */
   PetscBool enabled;
   PetscReal thickness;    /* m (> 0): layers are kept this far apart */
   PetscReal stiffness;    /* N/m (> 0): repulsion 0.5 k (thickness - d)^2 for d < thickness */
@@ -146,24 +148,24 @@ typedef struct {
 
 typedef struct _n_Scene *Scene;
 struct _n_Scene {
-  char             path[CLOTH_PATH_LEN]; /* the file it was read from */
-  char             name[CLOTH_NAME_LEN]; /* scene name (defaults to the file's base name without .yaml) */
-  PetscReal        gravity[3];           /* m/s^2 */
-  PetscInt         nfabrics;
-  SceneFabric     *fabrics;
-  PetscInt         npieces;
-  ScenePiece      *pieces;
-  SceneRunDefaults run;
-  PetscInt         nbodies;
-  SceneBody       *bodies;               /* rigid bodies (bodies: list), in scene order */
-  SceneSelfCollision self_collision;     /* cloth-cloth collisions (self_collision: block) */
-  PetscInt         nseams;
-  SceneSeam       *seams;                /* seams: list, in scene order */
-  SceneSewing      sewing;               /* sewing: block (defaults when absent) */
-  PetscBool        single_grid;          /* exactly one rectangular piece: -grid N may resize it */
-  PetscInt64       fingerprint;          /* FNV-1a hash of the file bytes (mixed with -grid), kept in checkpoints */
-  PetscInt64       file_fingerprint;     /* FNV-1a hash of the file bytes alone */
-  MPI_Comm         comm;                 /* the communicator it was read on (errors from SceneSetGridSize use it) */
+  char               path[CLOTH_PATH_LEN]; /* the file it was read from */
+  char               name[CLOTH_NAME_LEN]; /* scene name (defaults to the file's base name without .yaml) */
+  PetscReal          gravity[3];           /* m/s^2 */
+  PetscInt           nfabrics;
+  SceneFabric       *fabrics;
+  PetscInt           npieces;
+  ScenePiece        *pieces;
+  SceneRunDefaults   run;
+  PetscInt           nbodies;
+  SceneBody         *bodies;         /* rigid bodies (bodies: list), in scene order */
+  SceneSelfCollision self_collision; /* cloth-cloth collisions (self_collision: block) */
+  PetscInt           nseams;
+  SceneSeam         *seams;            /* seams: list, in scene order */
+  SceneSewing        sewing;           /* sewing: block (defaults when absent) */
+  PetscBool          single_grid;      /* exactly one rectangular piece: -grid N may resize it */
+  PetscInt64         fingerprint;      /* FNV-1a hash of the file bytes (mixed with -grid), kept in checkpoints */
+  PetscInt64         file_fingerprint; /* FNV-1a hash of the file bytes alone */
+  MPI_Comm           comm;             /* the communicator it was read on (errors from SceneSetGridSize use it) */
 };
 
 /* Reads and validates a scene file. Collective on comm: rank 0 reads the bytes, every rank parses

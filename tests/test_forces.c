@@ -120,11 +120,11 @@ static PetscErrorCode CheckElements(PetscRandom rnd)
       ClothLink biphasic = link;
       PetscReal d[3], l;
       for (PetscInt c = 0; c < 3; c++) d[c] = x[3 + c] - x[c];
-      l                    = PetscSqrtReal(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-      biphasic.rest        = 0.5 * l;
+      l                     = PetscSqrtReal(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+      biphasic.rest         = 0.5 * l;
       biphasic.repel_length = 0;
-      biphasic.knee_length = (trial % 2) ? 0.25 * l : 0.75 * l;
-      biphasic.k_stiff     = Uniform(rnd, 2, 10) * link.k;
+      biphasic.knee_length  = (trial % 2) ? 0.25 * l : 0.75 * l;
+      biphasic.k_stiff      = Uniform(rnd, 2, 10) * link.k;
       PetscCall(CheckElement(LinkFunction, &biphasic, 2, x, (trial % 2) ? "biphasic link beyond the knee" : "biphasic link below the knee"));
     }
     for (PetscInt kind = CLOTH_ANGLE_CORNER; kind <= CLOTH_ANGLE_CELL; kind++) {
@@ -141,7 +141,8 @@ static PetscErrorCode CheckElements(PetscRandom rnd)
         for (PetscInt q = 0; q < 4; q++)
           for (PetscInt c = 0; c < 3; c++) xc[3 * q + c] = (c < 2 ? corner[q][c] : 0.0) + 0.4 * x[3 * q + c];
         PetscCall(CheckElement(AngleFunction, &angle, 4, xc, names[kind]));
-      } else PetscCall(CheckElement(AngleFunction, &angle, 3, x, names[kind]));
+      } else
+        PetscCall(CheckElement(AngleFunction, &angle, 3, x, names[kind]));
     }
     {
       /* a seam link to an interpolated point: quadratic core (odd trials) and constant pull (even) */
@@ -157,11 +158,32 @@ static PetscErrorCode CheckElements(PetscRandom rnd)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* The slider of a friction element (ClothAngleSlide) along a loading path of a chain bent in its plane, slip 0.05 rad:
+   bent to 0.03 it sticks (rest 0); to 0.3 it slides (rest 0.25, so the moment k (theta - rest) is the friction
+   moment k slip); back to 0.22 it sticks again (rest 0.25); back to 0.1 it slides the other way (rest 0.15). */
+static PetscErrorCode CheckFrictionSlide(void)
+{
+  ClothAngle      angle   = {{0, 1, 2, 0}, CLOTH_ANGLE_CHAIN, 2.0, 1.0, 0.0, 0.05};
+  const PetscReal path[4] = {0.03, 0.3, 0.22, 0.1}, rest[4] = {0, 0.25, 0.25, 0.15};
+
+  PetscFunctionBeginUser;
+  for (PetscInt s = 0; s < 4; s++) {
+    const PetscReal  x[9]  = {-1, 0, 0, 0, 0, 0, PetscCosReal(path[s]), PetscSinReal(path[s]), 0};
+    const PetscReal *xs[3] = {&x[0], &x[3], &x[6]};
+    PetscReal        got;
+
+    ClothAngleSlide(&angle, xs);
+    got = PetscAtan2Real(angle.sin0, angle.cos0);
+    PetscCheck(PetscAbsReal(got - rest[s]) < 1e-12, PETSC_COMM_SELF, PETSC_ERR_PLIB, "Friction slider bent to %g rad: rest angle %.15g, expected %g", (double)path[s], (double)got, (double)rest[s]);
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 /* Total shear energy of one square cell (side h, rest angle 90 degrees, G A = 1) at corners x (counter-clockwise
    from (0, 0)): one cell spring, or the four corner springs of G A / 4 each. */
 static PetscErrorCode CellShearEnergy(const PetscReal x[12], PetscBool cell, PetscReal *energy)
 {
-  ClothAngle angle = {{0, 1, 2, 3}, CLOTH_ANGLE_CELL, 1.0, 0.0, 1.0};
+  ClothAngle angle = {{0, 1, 2, 3}, CLOTH_ANGLE_CELL, 1.0, 0.0, 1.0, 0.0};
   PetscReal  e;
 
   PetscFunctionBeginUser;
@@ -215,6 +237,7 @@ int main(int argc, char **argv)
   PetscCall(PetscRandomSeed(rnd));
   PetscCall(CheckElements(rnd));
   PetscCall(CheckCellShearMeasure());
+  PetscCall(CheckFrictionSlide());
   PetscCall(PetscRandomDestroy(&rnd));
   PetscCall(PetscFinalize());
   return 0;

@@ -1,0 +1,100 @@
+/* Cloth: the state of bending hysteresis (see cloth.h, forces.h).
+
+   Each friction element sits beside the elastic spring of one thread-bending chain (p0, p1, p2) and
+   carries the slider's position as its rest angle (cos0, sin0). The sliders move once per (sub-)step,
+   at its start; a checkpoint stores them per particle in natural order, four values per middle
+   particle p1: cos0 and sin0 of the chain along the warp, then of the chain along the weft (exact
+   copies, so that a restarted run is bit-identical to an uninterrupted one). */
+#include "cloth_impl.h"
+
+#define HYSTERESIS_STATE_BS 4
+
+/* 0 for the chain along the warp (i), 1 along the weft (j): in a piece's natural numbering j nu + i the
+   warp neighbours of a particle are 1 apart, the weft neighbours nu >= 2. */
+static PetscInt FrictionSlot(Cloth cloth, const ClothAngle *angle)
+{
+  return cloth->natural_of_local[angle->p[1]] - cloth->natural_of_local[angle->p[0]] == 1 ? 0 : 1;
+}
+
+PetscErrorCode ClothUpdateHysteresis(Cloth cloth, Vec position)
+{
+  Vec                xl;
+  const PetscScalar *x;
+
+  PetscFunctionBeginUser;
+  if (cloth->model->nfriction == 0) PetscFunctionReturn(PETSC_SUCCESS); /* the same on every rank */
+  PetscCall(VecGhostUpdateBegin(position, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecGhostUpdateEnd(position, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecGhostGetLocalForm(position, &xl));
+  PetscCall(VecGetArrayRead(xl, &x));
+  for (PetscInt a = 0; a < cloth->nangles; a++) {
+    ClothAngle      *angle = &cloth->angles[a];
+    const PetscReal *xs[CLOTH_ANGLE_MAX_PARTICLES];
+
+    if (angle->slip <= 0) continue;
+    for (PetscInt k = 0; k < ClothAngleParticleCount(angle->kind); k++) xs[k] = &x[3 * angle->p[k]];
+    ClothAngleSlide(angle, xs);
+  }
+  PetscCall(VecRestoreArrayRead(xl, &x));
+  PetscCall(VecGhostRestoreLocalForm(position, &xl));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothHysteresisCreateStateVec(Cloth cloth, Vec *state)
+{
+  PetscFunctionBeginUser;
+  *state = NULL;
+  if (cloth->model->nfriction == 0) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(VecCreate(cloth->comm, state));
+  PetscCall(VecSetBlockSize(*state, HYSTERESIS_STATE_BS));
+  PetscCall(VecSetSizes(*state, PETSC_DECIDE, HYSTERESIS_STATE_BS * cloth->nglobal));
+  PetscCall(VecSetFromOptions(*state));
+  PetscCall(PetscObjectSetName((PetscObject)*state, "bend_slider"));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothHysteresisGetState(Cloth cloth, Vec state)
+{
+  PetscFunctionBeginUser;
+  PetscCall(VecZeroEntries(state));
+  for (PetscInt a = 0; a < cloth->nangles; a++) {
+    const ClothAngle *angle  = &cloth->angles[a];
+    const PetscInt    row    = HYSTERESIS_STATE_BS * cloth->natural_of_local[angle->p[1]] + 2 * FrictionSlot(cloth, angle);
+    const PetscInt    idx[2] = {row, row + 1};
+    const PetscScalar val[2] = {angle->cos0, angle->sin0};
+
+    if (angle->slip <= 0) continue;
+    PetscCall(VecSetValues(state, 2, idx, val, INSERT_VALUES)); /* each entry has one writer: the element's owner */
+  }
+  PetscCall(VecAssemblyBegin(state));
+  PetscCall(VecAssemblyEnd(state));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothHysteresisSetState(Cloth cloth, Vec state)
+{
+  VecScatter         to_all;
+  Vec                all;
+  const PetscScalar *s;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecScatterCreateToAll(state, &to_all, &all));
+  PetscCall(VecScatterBegin(to_all, state, all, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(to_all, state, all, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecGetArrayRead(all, &s));
+  for (PetscInt a = 0; a < cloth->nangles; a++) {
+    ClothAngle     *angle = &cloth->angles[a];
+    const PetscInt  row   = HYSTERESIS_STATE_BS * cloth->natural_of_local[angle->p[1]] + 2 * FrictionSlot(cloth, angle);
+    const PetscReal c = PetscRealPart(s[row]), sn = PetscRealPart(s[row + 1]);
+
+    if (angle->slip <= 0) continue;
+    PetscCheck(PetscAbsReal(c * c + sn * sn - 1) < 1e-12, PETSC_COMM_SELF, PETSC_ERR_FILE_UNEXPECTED, "Checkpoint bend_slider: particle %" PetscInt_FMT " has no slider angle (cos %g, sin %g)", cloth->natural_of_local[angle->p[1]], (double)c,
+               (double)sn);
+    angle->cos0 = c;
+    angle->sin0 = sn;
+  }
+  PetscCall(VecRestoreArrayRead(all, &s));
+  PetscCall(VecScatterDestroy(&to_all));
+  PetscCall(VecDestroy(&all));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
