@@ -14,7 +14,8 @@
                                       # or bend_warp / bend_weft (each defaults to bend); default 0, >= 0
          bend_model: link             # link | angle (default link)
          bend_hysteresis: 0           # angle model: friction moment HB per unit width, N m/m (KES 2HB / 2), or
-                                      # bend_hysteresis_warp / _weft; default 0 (elastic), >= 0
+                                      # bend_hysteresis_warp / _weft; default 0 (elastic), >= 0; or
+                                      # bend_hysteresis_ratio: 2HB/B, 1/m (HB = ratio B / 2 per direction)
          damping: 0.0                 # 1/s, default 0, >= 0
          repulsion: 0.0               # fraction of rest length, in [0, 1), default 0 (off)
          repulsion_stiffness: 10      # relative to the stretch stiffness, default 10, >= 0
@@ -86,6 +87,7 @@ static const char *const SceneFabricKeys[]        = {"density",
                                                      "bend_hysteresis",
                                                      "bend_hysteresis_warp",
                                                      "bend_hysteresis_weft",
+                                                     "bend_hysteresis_ratio",
                                                      "damping",
                                                      "repulsion",
                                                      "repulsion_stiffness",
@@ -633,6 +635,27 @@ static PetscErrorCode ReadStretchCurve(SceneReader *r, yaml_node_t *map, SceneFa
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* Bending hysteresis: HB per direction (bend_hysteresis[_warp|_weft]), or the KES ratio 2HB/B (bend_hysteresis_ratio,
+   1/m), which sets HB = ratio B / 2 from the fabric's own rigidities; not both. */
+static PetscErrorCode ReadBendHysteresis(SceneReader *r, yaml_node_t *map, SceneFabric *fabric)
+{
+  PetscBool has_ratio = PETSC_FALSE, has_hb = PETSC_FALSE, has_warp = PETSC_FALSE, has_weft = PETSC_FALSE;
+  PetscReal ratio = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(ReadWarpWeft(r, map, "bend_hysteresis", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "friction moment per unit width HB, N m/m", &fabric->bend_hysteresis_warp, &fabric->bend_hysteresis_weft));
+  PetscCall(SceneHasKey(r, map, "bend_hysteresis_ratio", &has_ratio));
+  if (!has_ratio) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(SceneHasKey(r, map, "bend_hysteresis", &has_hb));
+  PetscCall(SceneHasKey(r, map, "bend_hysteresis_warp", &has_warp));
+  PetscCall(SceneHasKey(r, map, "bend_hysteresis_weft", &has_weft));
+  if (has_hb || has_warp || has_weft) PetscCall(SceneFailValue(r, map, "bend_hysteresis_ratio", "give bend_hysteresis_ratio or bend_hysteresis[_warp|_weft], not both"));
+  PetscCall(ReadReal(r, map, "bend_hysteresis_ratio", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "2HB/B, 1/m", &ratio));
+  fabric->bend_hysteresis_warp = 0.5 * ratio * fabric->bend_warp;
+  fabric->bend_hysteresis_weft = 0.5 * ratio * fabric->bend_weft;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 static PetscErrorCode SceneReadFabric(SceneReader *r, yaml_node_t *name, yaml_node_t *map, SceneFabric *fabric)
 {
   PetscInt shear_model = CLOTH_SHEAR_LINK, bend_model = CLOTH_BEND_LINK;
@@ -655,7 +678,7 @@ static PetscErrorCode SceneReadFabric(SceneReader *r, yaml_node_t *name, yaml_no
   PetscCall(ReadChoice(r, map, "shear_model", PETSC_FALSE, ClothShearModels, &shear_model));
   PetscCall(ReadChoice(r, map, "bend_model", PETSC_FALSE, ClothBendModels, &bend_model));
   PetscCall(ReadWarpWeft(r, map, "bend", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, bend_model == CLOTH_BEND_LINK ? "N/m per skip-one link" : "bending rigidity, N m", &fabric->bend_warp, &fabric->bend_weft));
-  PetscCall(ReadWarpWeft(r, map, "bend_hysteresis", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "friction moment per unit width HB, N m/m", &fabric->bend_hysteresis_warp, &fabric->bend_hysteresis_weft));
+  PetscCall(ReadBendHysteresis(r, map, fabric));
   if ((fabric->bend_hysteresis_warp > 0 || fabric->bend_hysteresis_weft > 0) && bend_model != CLOTH_BEND_ANGLE) PetscCall(SceneFailValue(r, map, "bend_hysteresis", "bending hysteresis needs bend_model: angle"));
   PetscCall(ReadReal(r, map, "damping", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "1/s", &fabric->damping));
   PetscCall(ReadReal(r, map, "repulsion", PETSC_FALSE, SCENE_REAL_FRACTION, "fraction of the rest length", &fabric->repulsion));

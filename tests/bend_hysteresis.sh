@@ -5,7 +5,8 @@
 #   bending spring acting over half a segment behind it, so the lever is L + h/2): within 1 % with HB and
 #   without it (measured -0.16 % and -0.24 %; hysteresis cuts the deflection from 5.15 to 2.98 mm);
 # - 400 steps + restart + 400 steps bit-identical to 800 (the sliders are in the checkpoint as bend_slider);
-# - bend_hysteresis with the link bending model is refused with a clear message.
+# - bend_hysteresis with the link bending model is refused with a clear message; bend_hysteresis_ratio (2HB/B)
+#   sets HB = ratio B / 2.
 set -eu
 : "${CLOTHSIM:?set CLOTHSIM to the clothsim binary}"
 out=${CLOTHSIM_BUILD:-build}/test-output/bend_hysteresis
@@ -57,4 +58,8 @@ if mpiexec -n 1 "$CLOTHSIM" -scene "$out/link.yaml" -steps 1 -output_dir "$out/l
   exit 1
 fi
 grep -q "bending hysteresis needs bend_model: angle" "$out/link.log" || { echo "FAIL: no clear message"; tail -5 "$out/link.log"; exit 1; }
+# bend_hysteresis_ratio = 2HB/B: 0.981 1/m of B = 5e-3 N m is the same HB = 2.4525e-3 N m/m in both directions
+sed 's/^    bend_hysteresis: .*/    bend_hysteresis_ratio: 0.981/' "$scene" > "$out/ratio.yaml"
+mpiexec -n 1 "$CLOTHSIM" -scene "$out/ratio.yaml" -steps 1 -output_dir "$out/ratio" > "$out/ratio.log" 2>&1 || { tail -5 "$out/ratio.log"; exit 1; }
+grep -q "bending friction HB 0.0024525/0.0024525 N m/m" "$out/ratio.log" || { echo "FAIL: bend_hysteresis_ratio 0.981 1/m did not give HB 0.0024525 N m/m"; grep fabric "$out/ratio.log"; exit 1; }
 echo "bend hysteresis: loading branch and restart as expected; refused with link bending"

@@ -64,12 +64,13 @@ PY
     "$pv" "$root/postprocess/render.py" --help | grep -q -- "--view" || fail "render.py --help"
     for view in front side; do
       # xvfb-run -a can lose a race for a display number to another X server starting at the same
-      # moment ("bad X server connection"): try again, at most three times.
-      for try in 1 2 3; do
-        xvfb-run -a "$pv" "$root/postprocess/render.py" "$work/run/hanging_sheet.xdmf" --frame -1 --view "$view" \
+      # moment ("bad X server connection"): start the search at a random number and try again, at most
+      # five times.
+      for try in 1 2 3 4 5; do
+        xvfb-run -a -n $((200 + RANDOM % 2000)) "$pv" "$root/postprocess/render.py" "$work/run/hanging_sheet.xdmf" --frame -1 --view "$view" \
           --size 320x240 --out "$work/render_$view.png" > "$work/render_$view.log" 2>&1 && break
         grep -q "bad X server connection" "$work/render_$view.log" || break
-        sleep 1
+        sleep $try
       done
       grep -q "render.py: " "$work/render_$view.log" || { cat "$work/render_$view.log"; fail "render.py --view $view"; }
       grep -q "t = 0.1 s (frame 4 of 5), 81 points, 64 cells" "$work/render_$view.log" || { cat "$work/render_$view.log"; fail "render.py drew the wrong frame or mesh"; }
