@@ -9,11 +9,14 @@
 
 #define HYSTERESIS_STATE_BS 4
 
-/* 0 for the chain along the warp (i), 1 along the weft (j): in a piece's natural numbering j nu + i the
-   warp neighbours of a particle are 1 apart, the weft neighbours nu >= 2. */
-static PetscInt FrictionSlot(Cloth cloth, const ClothAngle *angle)
+/* Where a friction element's cos0 (then sin0) goes in the state Vec: its middle particle's row, slot 0 for the chain
+   along the warp (i), 1 along the weft (j); in a piece's natural numbering j nu + i the warp neighbours of a
+   particle are 1 apart, the weft neighbours nu >= 2. */
+static PetscInt SliderIndex(Cloth cloth, const ClothAngle *angle)
 {
-  return cloth->natural_of_local[angle->p[1]] - cloth->natural_of_local[angle->p[0]] == 1 ? 0 : 1;
+  const PetscInt middle = cloth->natural_of_local[angle->p[1]], slot = middle - cloth->natural_of_local[angle->p[0]] == 1 ? 0 : 1;
+
+  return HYSTERESIS_STATE_BS * middle + 2 * slot;
 }
 
 PetscErrorCode ClothUpdateHysteresis(Cloth cloth, Vec position)
@@ -58,12 +61,15 @@ PetscErrorCode ClothHysteresisGetState(Cloth cloth, Vec state)
   PetscFunctionBeginUser;
   PetscCall(VecZeroEntries(state));
   for (PetscInt a = 0; a < cloth->nangles; a++) {
-    const ClothAngle *angle  = &cloth->angles[a];
-    const PetscInt    row    = HYSTERESIS_STATE_BS * cloth->natural_of_local[angle->p[1]] + 2 * FrictionSlot(cloth, angle);
-    const PetscInt    idx[2] = {row, row + 1};
-    const PetscScalar val[2] = {angle->cos0, angle->sin0};
+    const ClothAngle *angle = &cloth->angles[a];
+    PetscInt          idx[2];
+    PetscScalar       val[2];
 
     if (angle->slip <= 0) continue;
+    idx[0] = SliderIndex(cloth, angle);
+    idx[1] = idx[0] + 1;
+    val[0] = angle->cos0;
+    val[1] = angle->sin0;
     PetscCall(VecSetValues(state, 2, idx, val, INSERT_VALUES)); /* each entry has one writer: the element's owner */
   }
   PetscCall(VecAssemblyBegin(state));
@@ -83,11 +89,14 @@ PetscErrorCode ClothHysteresisSetState(Cloth cloth, Vec state)
   PetscCall(VecScatterEnd(to_all, state, all, INSERT_VALUES, SCATTER_FORWARD));
   PetscCall(VecGetArrayRead(all, &s));
   for (PetscInt a = 0; a < cloth->nangles; a++) {
-    ClothAngle     *angle = &cloth->angles[a];
-    const PetscInt  row   = HYSTERESIS_STATE_BS * cloth->natural_of_local[angle->p[1]] + 2 * FrictionSlot(cloth, angle);
-    const PetscReal c = PetscRealPart(s[row]), sn = PetscRealPart(s[row + 1]);
+    ClothAngle *angle = &cloth->angles[a];
+    PetscInt    row;
+    PetscReal   c, sn;
 
     if (angle->slip <= 0) continue;
+    row = SliderIndex(cloth, angle);
+    c   = PetscRealPart(s[row]);
+    sn  = PetscRealPart(s[row + 1]);
     PetscCheck(PetscAbsReal(c * c + sn * sn - 1) < 1e-12, PETSC_COMM_SELF, PETSC_ERR_FILE_UNEXPECTED, "Checkpoint bend_slider: particle %" PetscInt_FMT " has no slider angle (cos %g, sin %g)", cloth->natural_of_local[angle->p[1]], (double)c,
                (double)sn);
     angle->cos0 = c;

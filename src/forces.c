@@ -98,21 +98,28 @@ static void NormalizedDot(const PetscReal a[3], const PetscReal b[3], PetscReal 
   }
 }
 
+/* The arms a, b of an angle spring at its particles' positions x[k] (weights from ClothAngleArms). */
+static void AngleArmVectors(const ClothAngle *angle, const PetscReal *const x[], PetscReal A[CLOTH_ANGLE_MAX_PARTICLES], PetscReal B[CLOTH_ANGLE_MAX_PARTICLES], PetscReal a[3], PetscReal b[3])
+{
+  ClothAngleArms(angle->kind, A, B);
+  for (PetscInt i = 0; i < 3; i++) a[i] = b[i] = 0;
+  for (PetscInt k = 0; k < ClothAngleParticleCount(angle->kind); k++)
+    for (PetscInt i = 0; i < 3; i++) {
+      a[i] += A[k] * x[k][i];
+      b[i] += B[k] * x[k][i];
+    }
+}
+
 PetscErrorCode ClothAngleEvaluate(const ClothAngle *angle, const PetscReal *const x[], PetscBool psd, PetscReal *energy, PetscReal force[], PetscReal H[])
 {
   const PetscInt np = ClothAngleParticleCount(angle->kind), n = 3 * np;
-  PetscReal      A[CLOTH_ANGLE_MAX_PARTICLES], B[CLOTH_ANGLE_MAX_PARTICLES], a[3] = {0, 0, 0}, b[3] = {0, 0, 0}, c, s, g[6], Hc[36];
+  PetscReal      A[CLOTH_ANGLE_MAX_PARTICLES], B[CLOTH_ANGLE_MAX_PARTICLES], a[3], b[3], c, s, g[6], Hc[36];
   PetscReal      dEdc, d2Edc2;
   /* Below this sine the cone of (theta - theta0) at theta = 0 is cut off (only matters when sin0 > 0). */
   const PetscReal sin_floor = 1e-6;
 
   PetscFunctionBeginUser;
-  ClothAngleArms(angle->kind, A, B);
-  for (PetscInt k = 0; k < np; k++)
-    for (PetscInt i = 0; i < 3; i++) {
-      a[i] += A[k] * x[k][i];
-      b[i] += B[k] * x[k][i];
-    }
+  AngleArmVectors(angle, x, A, B, a, b);
   NormalizedDot(a, b, &c, g, Hc);
   s = PetscSqrtReal(PetscMax(1.0 - c * c, 0.0));
   /* E = k (1 - c c0 - s s0) with s = sqrt(1 - c^2) */
@@ -144,15 +151,10 @@ PetscErrorCode ClothAngleEvaluate(const ClothAngle *angle, const PetscReal *cons
 
 void ClothAngleSlide(ClothAngle *angle, const PetscReal *const x[])
 {
-  PetscReal A[CLOTH_ANGLE_MAX_PARTICLES], B[CLOTH_ANGLE_MAX_PARTICLES], a[3] = {0, 0, 0}, b[3] = {0, 0, 0}, axb[3], theta, rest;
+  PetscReal A[CLOTH_ANGLE_MAX_PARTICLES], B[CLOTH_ANGLE_MAX_PARTICLES], a[3], b[3], axb[3], theta, rest;
 
   if (angle->slip <= 0) return;
-  ClothAngleArms(angle->kind, A, B);
-  for (PetscInt k = 0; k < ClothAngleParticleCount(angle->kind); k++)
-    for (PetscInt i = 0; i < 3; i++) {
-      a[i] += A[k] * x[k][i];
-      b[i] += B[k] * x[k][i];
-    }
+  AngleArmVectors(angle, x, A, B, a, b);
   Cross3(a, b, axb);
   theta = PetscAtan2Real(PetscSqrtReal(Dot3(axb, axb)), Dot3(a, b));
   rest  = PetscAtan2Real(angle->sin0, angle->cos0);
