@@ -9,12 +9,13 @@ PetscErrorCode ClothCreate(MPI_Comm comm, Scene scene, Cloth *cloth)
   PetscFunctionBeginUser;
   PetscCall(ClothLogRegister());
   PetscCall(PetscNew(&c));
-  c->comm           = comm;
-  c->scene          = scene;
-  c->partition_type = CLOTH_PARTITION_METIS;
-  c->gravity_scale  = 1.0;
-  c->friction_scale = 1.0;
-  *cloth            = c;
+  c->comm              = comm;
+  c->scene             = scene;
+  c->partition_type    = CLOTH_PARTITION_METIS;
+  c->gravity_scale     = 1.0;
+  c->friction_scale    = 1.0;
+  c->perturbation_seed = 1;
+  *cloth               = c;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -25,7 +26,11 @@ PetscErrorCode ClothSetFromOptions(Cloth cloth)
   PetscCall(PetscOptionsEnum("-cloth_partition", "How particles are split across ranks", "ClothSetUp", ClothPartitionTypes, (PetscEnum)cloth->partition_type, (PetscEnum *)&cloth->partition_type, NULL));
   PetscCall(PetscOptionsBool("-cloth_view_partition", "Print the partition quality at start-up, with one line per rank", "ClothView", cloth->view_partition, &cloth->view_partition, NULL));
   PetscCall(PetscOptionsBool("-cloth_view_partition_summary", "Print a one-line partition summary at start-up on more than one rank", "ClothSetViewPartitionSummary", cloth->view_partition_summary, &cloth->view_partition_summary, NULL));
+  PetscCall(PetscOptionsReal("-cloth_perturbation", "Amplitude, m, of a seeded random displacement of the free particles along the fabric's normal at the start (a real specimen's imperfections; 0: none)", "ClothModelPerturbPositions",
+                             cloth->perturbation, &cloth->perturbation, NULL));
+  PetscCall(PetscOptionsInt("-cloth_perturbation_seed", "Seed of -cloth_perturbation (one trial of a test per seed)", "ClothModelPerturbPositions", cloth->perturbation_seed, &cloth->perturbation_seed, NULL));
   PetscOptionsEnd();
+  PetscCheck(cloth->perturbation >= 0, cloth->comm, PETSC_ERR_USER_INPUT, "-cloth_perturbation must not be negative, got %g", (double)cloth->perturbation);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -234,6 +239,7 @@ PetscErrorCode ClothSetUp(Cloth cloth)
   PetscCallMPI(MPI_Comm_size(cloth->comm, &size));
   PetscCallMPI(MPI_Comm_rank(cloth->comm, &rank));
   PetscCall(ClothModelCreate(cloth->scene, &cloth->model));
+  PetscCall(ClothModelPerturbPositions(cloth->model, cloth->perturbation, cloth->perturbation_seed));
   cloth->nglobal = cloth->model->nparticles;
   PetscCheck(cloth->nglobal >= size, cloth->comm, PETSC_ERR_ARG_OUTOFRANGE, "%" PetscInt_FMT " particles cannot be shared by %d ranks", cloth->nglobal, size);
   PetscCall(ClothModelGetAdjacency(cloth->model, &cloth->xadj, &cloth->adjncy));

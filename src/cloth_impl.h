@@ -12,30 +12,32 @@ struct _n_Cloth {
   PetscBool          view_partition_summary; /* one line at set-up on more than one rank (the driver's default) */
   PetscBool          setup;
   PetscBool          exact_stiffness; /* assemble the exact Hessian instead of its PSD part (tests) */
+  PetscReal          perturbation;    /* amplitude, m, of the seeded start imperfections (0: none) */
+  PetscInt           perturbation_seed;
 
-  PetscInt           nglobal, nlocal, nghost, rstart;
-  PetscInt          *part;             /* natural -> rank */
-  PetscInt          *solver_of_natural; /* natural -> solver index */
-  PetscInt          *natural_of_local;  /* local (owned, then ghosts) -> natural */
-  PetscInt          *ghosts;            /* solver indices of the ghosts, ascending */
-  PetscInt           edge_cut;
+  PetscInt  nglobal, nlocal, nghost, rstart;
+  PetscInt *part;              /* natural -> rank */
+  PetscInt *solver_of_natural; /* natural -> solver index */
+  PetscInt *natural_of_local;  /* local (owned, then ghosts) -> natural */
+  PetscInt *ghosts;            /* solver indices of the ghosts, ascending */
+  PetscInt  edge_cut;
 
-  PetscReal         *mass, *damping; /* owned */
-  PetscBool         *fixed;          /* owned and ghosts */
-  PetscInt           nlinks, nangles;
-  ClothLink         *links;  /* local particle indices */
-  ClothAngle        *angles; /* local particle indices */
-  PetscInt           nseamlinks;
-  ClothSeamLink     *seamlinks;            /* local particle indices; stiffness set by the sewing phases */
-  PetscInt          *seamlink_model_index; /* index of each into model->seamlinks */
-  PetscReal          gravity_scale;        /* 1, or 0 while seams are pulled together (sewing.h) */
-  PetscReal          friction_scale;       /* multiplies body friction: 1, or sewing's pull_friction while seams are pulled */
-  PetscInt          *xadj, *adjncy; /* natural-order adjacency, kept for preallocation */
+  PetscReal     *mass, *damping; /* owned */
+  PetscBool     *fixed;          /* owned and ghosts */
+  PetscInt       nlinks, nangles;
+  ClothLink     *links;  /* local particle indices */
+  ClothAngle    *angles; /* local particle indices */
+  PetscInt       nseamlinks;
+  ClothSeamLink *seamlinks;            /* local particle indices; stiffness set by the sewing phases */
+  PetscInt      *seamlink_model_index; /* index of each into model->seamlinks */
+  PetscReal      gravity_scale;        /* 1, or 0 while seams are pulled together (sewing.h) */
+  PetscReal      friction_scale;       /* multiplies body friction: 1, or sewing's pull_friction while seams are pulled */
+  PetscInt      *xadj, *adjncy;        /* natural-order adjacency, kept for preallocation */
 
-  Vec                position, velocity, work_force, work_kv;
-  Vec                contact_normal; /* ghosted, bs 3: unit normal of each particle's contact constraint, 0 when free
-                                        (created by ClothGetContactNormals; NULL: no contacts) */
+  Vec position, velocity, work_force, work_kv;
+  Vec contact_normal;                       /* ghosted, bs 3: unit normal of each particle's contact constraint, 0 when free
+                                               (created by ClothGetContactNormals; NULL: no contacts) */
   struct _n_ClothSelfContact *self_contact; /* cloth-cloth contacts (selfcontact.h; borrowed, NULL: off) */
-  Vec                natural;      /* template for natural-order Vecs */
-  VecScatter         to_natural;
+  Vec                         natural;      /* template for natural-order Vecs */
+  VecScatter                  to_natural;
 };

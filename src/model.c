@@ -1,4 +1,5 @@
 /* ClothModel (see model.h): particles, masses and interactions of every piece. */
+#include <stdint.h>
 #include "model.h"
 #include "fabric.h"
 #include "pattern.h"
@@ -377,6 +378,46 @@ PetscErrorCode ClothModelCreate(Scene scene, ClothModel *model)
   PetscCall(PetscFree(uvs));
   *model = m;
   for (PetscInt a = 0; a < m->nangles; a++) m->nfriction += m->angles[a].slip > 0;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* A uniform number in [-1, 1) from (seed, index) alone (splitmix64's finaliser): a PetscRandom
+   stream would give each rank other numbers for the same particle. */
+static PetscReal HashUniform(PetscInt seed, PetscInt index)
+{
+  uint64_t z = (uint64_t)seed * 0x9E3779B97F4A7C15ULL + (uint64_t)index + 1;
+
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+  z ^= z >> 31;
+  return 2.0 * (PetscReal)(z >> 11) / 9007199254740992.0 - 1.0; /* 53 bits / 2^53 */
+}
+
+PetscErrorCode ClothModelPerturbPositions(ClothModel model, PetscReal amplitude, PetscInt seed)
+{
+  PetscReal *normal;
+
+  PetscFunctionBeginUser;
+  if (amplitude <= 0) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(PetscCalloc1(3 * model->nparticles, &normal));
+  for (PetscInt q = 0; q < model->nquads; q++) { /* area-weighted cell normals, summed at the corners */
+    const PetscInt *c = &model->quads[4 * q];
+    PetscReal       d0[3], d1[3], n[3];
+
+    Sub3(&model->position[3 * c[2]], &model->position[3 * c[0]], d0);
+    Sub3(&model->position[3 * c[3]], &model->position[3 * c[1]], d1);
+    Cross3(d0, d1, n);
+    for (PetscInt k = 0; k < 4; k++)
+      for (PetscInt d = 0; d < 3; d++) normal[3 * c[k] + d] += n[d];
+  }
+  for (PetscInt i = 0; i < model->nparticles; i++) {
+    const PetscReal len = PetscSqrtReal(Dot3(&normal[3 * i], &normal[3 * i]));
+    const PetscReal h   = amplitude * HashUniform(seed, i);
+
+    if (model->pinned[i] || len == 0) continue;
+    for (PetscInt d = 0; d < 3; d++) model->position[3 * i + d] += h * normal[3 * i + d] / len;
+  }
+  PetscCall(PetscFree(normal));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -28,5 +28,10 @@ struct _n_ClothModel {
 
 PetscErrorCode ClothModelCreate(Scene scene, ClothModel *model);
 /* Adjacency in CSR form (no self loops): j is a neighbour of i when an interaction holds both. */
+/* Displaces every free particle along the fabric's normal there by a uniform random amount in
+   [-amplitude, amplitude] (m): the small imperfections of a real specimen, which decide how a
+   symmetric start buckles. The numbers depend only on seed and the particle's natural index, so the
+   start is the same on any number of ranks. Rest lengths and angles are not touched. */
+PetscErrorCode ClothModelPerturbPositions(ClothModel model, PetscReal amplitude, PetscInt seed);
 PetscErrorCode ClothModelGetAdjacency(ClothModel model, PetscInt **xadj, PetscInt **adjncy);
 PetscErrorCode ClothModelDestroy(ClothModel *model);

@@ -8,6 +8,11 @@
    4. Presets: a preset's values equal the cited source numbers (fabric_presets.c).
    5. With -scene FILE -expect_area A: every piece of the scene meshes with positive cells, its outline
       encloses A m^2 (-area_rtol, default 1e-2) and its particles' total mass is density x A within 1%.
+   6. With -scene (a flat scene): the start imperfections (-cloth_perturbation) leave pinned particles
+      where they are, move free ones only out of the fabric's plane (perpendicular to every link, to
+      1e-12 of the amplitude) by at most the amplitude, with the mean and mean square of a uniform
+      distribution (0 and 1/3 of the amplitude, squared, within 4 standard errors); the same seed gives the
+      same start, another seed another one.
    Prints nothing unless a check fails. */
 #include <petscsys.h>
 #include "fabric.h"
@@ -163,6 +168,76 @@ static PetscErrorCode CheckSceneAreas(const char path[], PetscReal expected_area
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* Displacement of each particle by ClothModelPerturbPositions(amplitude, seed) (3 N values, freed by the caller). */
+static PetscErrorCode PerturbationDisplacement(Scene scene, PetscReal amplitude, PetscInt seed, ClothModel *model, PetscReal **displacement)
+{
+  ClothModel perturbed;
+
+  PetscFunctionBeginUser;
+  PetscCall(ClothModelCreate(scene, model));
+  PetscCall(ClothModelCreate(scene, &perturbed));
+  PetscCall(ClothModelPerturbPositions(perturbed, amplitude, seed));
+  PetscCall(PetscMalloc1(3 * (*model)->nparticles, displacement));
+  for (PetscInt k = 0; k < 3 * (*model)->nparticles; k++) (*displacement)[k] = perturbed->position[k] - (*model)->position[k];
+  PetscCall(ClothModelDestroy(&perturbed));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode CheckPerturbation(const char path[])
+{
+  const PetscReal amplitude = 1e-3;
+  Scene           scene;
+  ClothModel      model;
+  PetscReal      *d, *same, *other;
+  PetscReal       sum = 0, sum2 = 0, moved = 0, differ = 0;
+  PetscInt        nfree = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(SceneCreateFromFile(PETSC_COMM_WORLD, path, &scene));
+  PetscCall(PerturbationDisplacement(scene, amplitude, 5, &model, &d));
+  for (PetscInt l = 0; l < model->nlinks; l++) { /* out of the plane: perpendicular to every thread segment */
+    const PetscInt *p = model->links[l].p;
+    PetscReal       e[3], len;
+
+    for (PetscInt c = 0; c < 3; c++) e[c] = model->position[3 * p[1] + c] - model->position[3 * p[0] + c];
+    len = PetscSqrtReal(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+    for (PetscInt k = 0; k < 2; k++)
+      PetscCheck(PetscAbsReal(d[3 * p[k]] * e[0] + d[3 * p[k] + 1] * e[1] + d[3 * p[k] + 2] * e[2]) <= 1e-12 * amplitude * len, PETSC_COMM_SELF, PETSC_ERR_PLIB, "particle %" PetscInt_FMT " moved along its link to %" PetscInt_FMT, p[k], p[1 - k]);
+  }
+  for (PetscInt i = 0; i < model->nparticles; i++) {
+    const PetscReal h = PetscSqrtReal(d[3 * i] * d[3 * i] + d[3 * i + 1] * d[3 * i + 1] + d[3 * i + 2] * d[3 * i + 2]);
+
+    if (model->pinned[i]) {
+      PetscCheck(h == 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "pinned particle %" PetscInt_FMT " moved by %g m", i, (double)h);
+      continue;
+    }
+    PetscCheck(h <= amplitude * (1 + 1e-12), PETSC_COMM_SELF, PETSC_ERR_PLIB, "particle %" PetscInt_FMT " moved by %g m, more than the amplitude", i, (double)h);
+    /* the signed displacement along y (the scene's normal) over the amplitude: uniform in [-1, 1] */
+    sum += d[3 * i + 1] / amplitude;
+    sum2 += PetscSqr(d[3 * i + 1] / amplitude);
+    moved += h > 0;
+    nfree++;
+  }
+  PetscCheck(nfree > 100 && moved == nfree, PETSC_COMM_SELF, PETSC_ERR_PLIB, "%g of %" PetscInt_FMT " free particles moved", (double)moved, nfree);
+  PetscCheck(PetscAbsReal(sum / nfree) <= 4 * PetscSqrtReal(1.0 / (3.0 * nfree)), PETSC_COMM_SELF, PETSC_ERR_PLIB, "mean displacement %g of the amplitude, expected 0", (double)(sum / nfree));
+  PetscCheck(PetscAbsReal(sum2 / nfree - 1.0 / 3.0) <= 4 * PetscSqrtReal(4.0 / (45.0 * nfree)), PETSC_COMM_SELF, PETSC_ERR_PLIB, "mean square displacement %g of the amplitude squared, expected 1/3", (double)(sum2 / nfree));
+  PetscCall(ClothModelDestroy(&model));
+  PetscCall(PerturbationDisplacement(scene, amplitude, 5, &model, &same));
+  PetscCall(ClothModelDestroy(&model));
+  PetscCall(PerturbationDisplacement(scene, amplitude, 6, &model, &other));
+  for (PetscInt k = 0; k < 3 * model->nparticles; k++) {
+    PetscCheck(same[k] == d[k], PETSC_COMM_SELF, PETSC_ERR_PLIB, "seed 5 gave two different starts");
+    differ += PetscAbsReal(other[k] - d[k]) > 0;
+  }
+  PetscCheck(differ >= nfree, PETSC_COMM_SELF, PETSC_ERR_PLIB, "seeds 5 and 6 gave the same displacement to %g of %" PetscInt_FMT " free particles", (double)(nfree - differ), nfree);
+  PetscCall(PetscFree(d));
+  PetscCall(PetscFree(same));
+  PetscCall(PetscFree(other));
+  PetscCall(ClothModelDestroy(&model));
+  PetscCall(SceneDestroy(&scene));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 int main(int argc, char **argv)
 {
   char      path[PETSC_MAX_PATH_LEN];
@@ -178,6 +253,7 @@ int main(int argc, char **argv)
   PetscCall(PetscOptionsGetReal(NULL, NULL, "-expect_area", &area, NULL));
   PetscCall(PetscOptionsGetReal(NULL, NULL, "-area_rtol", &rtol, NULL));
   if (has_scene) PetscCall(CheckSceneAreas(path, area, rtol));
+  if (has_scene) PetscCall(CheckPerturbation(path));
   PetscCall(PetscFinalize());
   return 0;
 }
