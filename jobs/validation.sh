@@ -7,6 +7,9 @@
 #   VALIDATION_JOBS=2 bash jobs/validation.sh             (two drape runs at once)
 #   VALIDATION_BEND_HYSTERESIS_RATIO=2 VALIDATION_GRIDS=49 bash jobs/validation.sh build output/validation_hysteresis
 #       (only the six published fabrics, with bending hysteresis 2HB/B = 2 1/cm: docs/validation.md, section 5.2)
+#   VALIDATION_TRIALS="1 2 3" VALIDATION_GRIDS=49 bash jobs/validation.sh build output/validation_trials
+#       (only the six published fabrics, one run per trial, each started with its own seeded imperfections of
+#       VALIDATION_PERTURBATION m, default 0.001: -cloth_perturbation; the table gives each trial and their mean)
 #
 # Also a Slurm batch script: sbatch --ntasks=1 --time=02:00:00 jobs/validation.sh
 # Runs one rank per run with a direct Cholesky solve (-pc_type cholesky): the stiff tensile links against
@@ -29,6 +32,10 @@ grids=(${VALIDATION_GRIDS:-49 65})
 # Bending hysteresis 2HB/B in 1/cm for the published fabrics (their measured 2HB are not known); set, only they run.
 hysteresis_ratio=${VALIDATION_BEND_HYSTERESIS_RATIO:-}
 [[ -z $hysteresis_ratio ]] || presets=()
+# Trials (perturbation seeds) of the published fabrics' drape, as a drape tester repeats a test; set, only they run.
+trials=(${VALIDATION_TRIALS:-})
+perturbation=${VALIDATION_PERTURBATION:-0.001}
+(( ${#trials[@]} == 0 )) || presets=()
 # Drape runs at once (one rank each); VALIDATION_JOBS=2 uses both cores of a 2-core machine.
 jobs=${VALIDATION_JOBS:-1}
 # Time step of the drape runs: dt 0.01 s gives the same drape as 0.005 s (docs/validation.md, section 5);
@@ -55,14 +62,16 @@ fi
 
 # 2. Cusick drape: every preset and every published fabric at two resolutions, dt 0.01 s for 4 s (damping 4 1/s:
 #    at rest)
-drape() { # drape PRESET N: one drape run and its measurement in $out/cusick_PRESET_N.json
-  local preset=$1 n=$2
-  run "cusick_${preset}_$n" -scene "$out/cusick_$preset.yaml" -grid "$n" -dt "$dt" -t_final 4 -output_dir "$out/cusick_${preset}_$n"
-  $py postprocess/cusick_drape.py "$(ls "$out/cusick_${preset}_$n"/checkpoint_*.h5 | tail -1)" --scene "$out/cusick_$preset.yaml" --grid "$n" --json > "$out/cusick_${preset}_$n.json"
+drape() { # drape PRESET N [TRIAL]: one drape run and its measurement in $out/cusick_PRESET_N[_tTRIAL].json
+  local preset=$1 n=$2 trial=${3:-}
+  local name=cusick_${preset}_$n${trial:+_t$trial} start=()
+  [[ -z $trial ]] || start=(-cloth_perturbation "$perturbation" -cloth_perturbation_seed "$trial")
+  run "$name" -scene "$out/cusick_$preset.yaml" -grid "$n" -dt "$dt" -t_final 4 -output_dir "$out/$name" "${start[@]}"
+  $py postprocess/cusick_drape.py "$(ls "$out/$name"/checkpoint_*.h5 | tail -1)" --scene "$out/cusick_$preset.yaml" --grid "$n" --json > "$out/$name.json"
   # not yet at rest (max speed above 1 mm/s): continue from the last checkpoint to 8 s
-  if $py -c "import json, sys; sys.exit(0 if json.load(open('$out/cusick_${preset}_$n.json'))['max_speed'] > 1e-3 else 1)"; then
-    run "cusick_${preset}_${n}_to8s" -scene "$out/cusick_$preset.yaml" -grid "$n" -dt "$dt" -t_final 8 -output_dir "$out/cusick_${preset}_$n" -restart "$(ls "$out/cusick_${preset}_$n"/checkpoint_*.h5 | tail -1)"
-    $py postprocess/cusick_drape.py "$(ls "$out/cusick_${preset}_$n"/checkpoint_*.h5 | tail -1)" --scene "$out/cusick_$preset.yaml" --grid "$n" --json > "$out/cusick_${preset}_$n.json"
+  if $py -c "import json, sys; sys.exit(0 if json.load(open('$out/$name.json'))['max_speed'] > 1e-3 else 1)"; then
+    run "${name}_to8s" -scene "$out/cusick_$preset.yaml" -grid "$n" -dt "$dt" -t_final 8 -output_dir "$out/$name" -restart "$(ls "$out/$name"/checkpoint_*.h5 | tail -1)"
+    $py postprocess/cusick_drape.py "$(ls "$out/$name"/checkpoint_*.h5 | tail -1)" --scene "$out/cusick_$preset.yaml" --grid "$n" --json > "$out/$name.json"
   fi
 }
 for preset in "${presets[@]}" "${published[@]%%=*}"; do
@@ -71,16 +80,18 @@ for preset in "${presets[@]}" "${published[@]%%=*}"; do
     sed -i "s/^    damping: 4 /    bend_hysteresis_ratio: $(awk "BEGIN {print 100 * $hysteresis_ratio}")\n    damping: 4 /" "$out/cusick_$preset.yaml"
   fi
   for n in "${grids[@]}"; do
-    drape "$preset" "$n" &
-    while (( $(jobs -rp | wc -l) >= jobs )); do wait -n; done
+    for trial in "${trials[@]:-}"; do
+      drape "$preset" "$n" $trial &
+      while (( $(jobs -rp | wc -l) >= jobs )); do wait -n; done
+    done
   done
 done
 while (( $(jobs -rp | wc -l) > 0 )); do wait -n; done
 
 # 3. Tables
-$py - "$out" "$dt" "${hysteresis_ratio:-0}" "${published[*]}" "${grids[@]}" <<'PY' > "$out/summary.md"
-import json, sys, glob, os
-out, dt, ratio, published, grids = sys.argv[1], sys.argv[2], float(sys.argv[3]), sys.argv[4].split(), sys.argv[5:]
+$py - "$out" "$dt" "${hysteresis_ratio:-0}" "${published[*]}" "${trials[*]:-}" "$perturbation" "${grids[@]}" <<'PY' > "$out/summary.md"
+import json, sys, glob, os, statistics
+out, dt, ratio, published, trials, perturbation, grids = sys.argv[1], sys.argv[2], float(sys.argv[3]), sys.argv[4].split(), sys.argv[5].split(), float(sys.argv[6]), sys.argv[7:]
 cant = json.load(open(os.path.join(out, "cantilever.json"))) if os.path.exists(os.path.join(out, "cantilever.json")) else []
 if cant:
     print("| fabric | direction | c = (B/W)^(1/3) from the preset, cm | simulated c = 0.5093 l*, cm | error |")
@@ -102,6 +113,22 @@ if cant:
         print(f"| {fabric} | {sum(mean_c[fabric]) / len(mean_c[fabric]):.3f} | " + " | ".join(cells) + f" | {dcs[-1] - dcs[0]:+.3f} |")
     print()
 hysteresis = f", bending hysteresis 2HB/B = {ratio:g} 1/cm (assumed)" if ratio > 0 else ""
+if trials:
+    print(f"Published drape coefficients (dt {dt} s{hysteresis}), one trial per seed of the start imperfections "
+          f"(-cloth_perturbation {perturbation:g} m): simulated against measured, error = mean - measured")
+    print()
+    for n in grids:
+        print(f"| fabric | measured DC | " + " | ".join(f"trial {t}: DC (folds)" for t in trials) + f" | mean, {n} nodes | sd | error |")
+        print("|---|---|" + "---|" * (len(trials) + 3))
+        for pair in published:
+            fabric, measured = pair.split("=")
+            runs = [json.load(open(os.path.join(out, f"cusick_{fabric}_{n}_t{t}.json"))) for t in trials]
+            dcs = [r["drape_coefficient"] for r in runs]
+            sd = statistics.stdev(dcs) if len(dcs) > 1 else 0.0
+            cells = [f"{r['drape_coefficient']:.3f} ({r['folds']})" for r in runs]
+            print(f"| {fabric} | {float(measured):.3f} | " + " | ".join(cells) + f" | {statistics.mean(dcs):.3f} | {sd:.3f} | {statistics.mean(dcs) - float(measured):+.3f} |")
+        print()
+    sys.exit(0)
 print(f"Published drape coefficients (dt {dt} s{hysteresis}): simulated against measured, error = simulated - measured")
 print()
 print("| fabric | measured DC | " + " | ".join(f"DC grid {n} (folds), error" for n in grids) + " |")
@@ -117,7 +144,8 @@ panels=()
 for pair in "${published[@]}"; do
   preset=${pair%%=*}
   n=${grids[-1]}
-  panels+=(--run "${preset#petrak_}, $n nodes" "$(ls "$out/cusick_${preset}_$n"/checkpoint_*.h5 | tail -1)" "$out/cusick_$preset.yaml" "$n" "${pair#*=}")
+  name=cusick_${preset}_$n${trials:+_t${trials[0]}}
+  panels+=(--run "${preset#petrak_}, $n nodes${trials:+, trial ${trials[0]}}" "$(ls "$out/$name"/checkpoint_*.h5 | tail -1)" "$out/cusick_$preset.yaml" "$n" "${pair#*=}")
 done
 $py postprocess/cusick_shadows.py --out "$out/cusick_petrak.png" "${panels[@]}"
 [[ ! -f $out/cantilever.txt ]] || cat "$out/cantilever.txt"

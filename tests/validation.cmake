@@ -27,11 +27,12 @@ clothsim_add_script_test(validation_cusick validation_cusick.sh "17 25" 0.08 cot
 set_tests_properties(validation_cusick PROPERTIES TIMEOUT 300)
 
 # Cusick drape against published measured drape coefficients (Petrak et al., Sustainability 17:1388, 2025;
-# presets in src/fabric_presets.c; all six fabrics at 49 and 65 nodes in docs/validation.md, section 5): at 49
-# nodes per boundary (where the drape coefficient is settled: M1 0.217 at 49, 0.218 at 65), dt 0.01 s, within
-# 0.10 of the measured value, for the two fabrics that are within 0.10 at both 49 and 65 nodes with a margin
-# (M1 polyester twill: -0.006 / -0.005; M2 polyester plain: +0.062 / +0.026; M4 is within by 0.002 at 49 and M3,
-# M5, M6 are not, see the document). About 100-150 s per fabric.
-clothsim_add_script_test(validation_cusick_published validation_cusick_published.sh 49 0.01 0.10
-  petrak_m1_polyester_twill=0.223 petrak_m2_polyester_plain=0.228)
+# presets in src/fabric_presets.c; all six fabrics in docs/validation.md, section 5.2): at 49 nodes per boundary
+# (where the drape coefficient is settled), dt 0.01 s, started with 0.1 mm seeded imperfections (trial 1 of the
+# document's three; a perfectly flat start keeps the grid's 4-fold symmetry and an artefact fold pattern), within
+# 0.10 of the measured value, for the two fabrics whose three trials are all within 0.10 (M1 polyester twill:
+# 0.261, 0.285, 0.252 against 0.223; M4 polyester/viscose twill: 0.207, 0.216, 0.236 against 0.286; M2, M3, M5 and
+# M6 are not, see the document). About 100-200 s per fabric.
+clothsim_add_script_test(validation_cusick_published validation_cusick_published.sh 49 0.01 0.10 0.0001 1
+  petrak_m1_polyester_twill=0.223 petrak_m4_polyester_viscose_twill=0.286)
 set_tests_properties(validation_cusick_published PROPERTIES TIMEOUT 900)
