@@ -240,6 +240,7 @@ PetscErrorCode ClothSetUp(Cloth cloth)
   PetscCallMPI(MPI_Comm_rank(cloth->comm, &rank));
   PetscCall(ClothModelCreate(cloth->scene, &cloth->model));
   PetscCall(ClothModelPerturbPositions(cloth->model, cloth->perturbation, cloth->perturbation_seed));
+  if (cloth->perturbation > 0) PetscCall(PetscPrintf(cloth->comm, "Start imperfections: free particles moved along the fabric's normal by up to %g m (seed %" PetscInt_FMT ")\n", (double)cloth->perturbation, cloth->perturbation_seed));
   cloth->nglobal = cloth->model->nparticles;
   PetscCheck(cloth->nglobal >= size, cloth->comm, PETSC_ERR_ARG_OUTOFRANGE, "%" PetscInt_FMT " particles cannot be shared by %d ranks", cloth->nglobal, size);
   PetscCall(ClothModelGetAdjacency(cloth->model, &cloth->xadj, &cloth->adjncy));
