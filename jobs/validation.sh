@@ -9,7 +9,7 @@
 #       (only the six published fabrics, with bending hysteresis 2HB/B = 2 1/cm: docs/validation.md, section 5.2)
 #   VALIDATION_TRIALS="1 2 3" VALIDATION_GRIDS=49 bash jobs/validation.sh build output/validation_trials
 #       (only the six published fabrics, one run per trial, each started with its own seeded imperfections of
-#       VALIDATION_PERTURBATION m, default 0.001: -cloth_perturbation; the table gives each trial and their mean)
+#       VALIDATION_PERTURBATION m, default 0.0001: -cloth_perturbation; the table gives each trial and their mean)
 #
 # Also a Slurm batch script: sbatch --ntasks=1 --time=02:00:00 jobs/validation.sh
 # Runs one rank per run with a direct Cholesky solve (-pc_type cholesky): the stiff tensile links against
@@ -34,7 +34,7 @@ hysteresis_ratio=${VALIDATION_BEND_HYSTERESIS_RATIO:-}
 [[ -z $hysteresis_ratio ]] || presets=()
 # Trials (perturbation seeds) of the published fabrics' drape, as a drape tester repeats a test; set, only they run.
 trials=(${VALIDATION_TRIALS:-})
-perturbation=${VALIDATION_PERTURBATION:-0.001}
+perturbation=${VALIDATION_PERTURBATION:-0.0001}
 (( ${#trials[@]} == 0 )) || presets=()
 # Drape runs at once (one rank each); VALIDATION_JOBS=2 uses both cores of a 2-core machine.
 jobs=${VALIDATION_JOBS:-1}
