@@ -131,8 +131,9 @@ static void AddThreadInteractions(ClothModel model, const PieceContext *pc, Pets
         } else {
           const PetscInt  local[3] = {a, m, b};
           const PetscReal segment  = 0.5 * (FlatDistance(pc, a, m) + FlatDistance(pc, m, b));
-          const PetscReal k        = FabricBendAngleStiffness(fab, warp, segment, ThreadOwnWidth(pc, i + di, j + dj, warp));
-          const PetscReal friction = (warp ? fab->bend_hysteresis_warp : fab->bend_hysteresis_weft) * ThreadOwnWidth(pc, i + di, j + dj, warp);
+          const PetscReal own      = ThreadOwnWidth(pc, i + di, j + dj, warp);
+          const PetscReal k        = FabricBendAngleStiffness(fab, warp, segment, own);
+          const PetscReal friction = (warp ? fab->bend_hysteresis_warp : fab->bend_hysteresis_weft) * own;
 
           AddAngle(model, pc, CLOTH_ANGLE_CHAIN, local, k);
           if (friction > 0 && k > 0) { /* the Jenkins element of bending hysteresis (forces.h) */
