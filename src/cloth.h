@@ -47,14 +47,18 @@ PetscErrorCode ClothGetMasses(Cloth cloth, const PetscReal **mass, const PetscBo
 /* force = internal + gravity + damping forces at (position, velocity). position and velocity get
    their ghosts refreshed. Collective. */
 PetscErrorCode ClothComputeForces(Cloth cloth, Vec position, Vec velocity, Vec force);
-/* Moves the sliders of the bending-hysteresis friction elements (ClothAngleSlide) to the state at position,
-   the start of a step. A no-op without hysteresis. position gets its ghosts refreshed. Collective. */
+/* Moves the sliders of the bending- and shear-hysteresis friction elements (ClothAngleSlide) to the state at
+   position, the start of a step. A no-op without hysteresis. position gets its ghosts refreshed. Collective. */
 PetscErrorCode ClothUpdateHysteresis(Cloth cloth, Vec position);
-/* The sliders as a checkpoint field (natural order, 4 per particle: cos and sin of the warp chain's slider
-   angle at it, then the weft chain's; 0 where there is none). Create gives NULL without hysteresis. Collective. */
-PetscErrorCode ClothHysteresisCreateStateVec(Cloth cloth, Vec *state);
-PetscErrorCode ClothHysteresisGetState(Cloth cloth, Vec state);
-PetscErrorCode ClothHysteresisSetState(Cloth cloth, Vec state);
+typedef enum {
+  CLOTH_SLIDERS_BEND, /* checkpoint field bend_slider: 4 per particle, cos and sin of the slider angle of the warp chain centred on it, then of the weft chain */
+  CLOTH_SLIDERS_SHEAR /* checkpoint field shear_slider: 2 per particle, cos and sin of the slider angle of the cell whose first corner (i, j) it is */
+} ClothSliderFamily;
+/* One family of sliders as a checkpoint field (natural order; 0 where there is none). Create gives NULL when
+   the fabric has no friction elements of that family. Collective. */
+PetscErrorCode ClothHysteresisCreateStateVec(Cloth cloth, ClothSliderFamily family, Vec *state);
+PetscErrorCode ClothHysteresisGetState(Cloth cloth, ClothSliderFamily family, Vec state);
+PetscErrorCode ClothHysteresisSetState(Cloth cloth, ClothSliderFamily family, Vec state);
 /* The linearised backward Euler system of MODEL.md section 5, filtered by the constraints:
    A = S (M + h C + h^2 K) S + (I - S) and rhs = S h (F - h K v), K the positive semidefinite part of
    the stiffness. A must come from ClothCreateMatrix. Collective. */

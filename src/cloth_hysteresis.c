@@ -1,22 +1,41 @@
-/* Cloth: the state of bending hysteresis (see cloth.h, forces.h).
+/* Cloth: the state of bending and shear hysteresis (see cloth.h, forces.h).
 
-   Each friction element sits beside the elastic spring of one thread-bending chain (p0, p1, p2) and
-   carries the slider's position as its rest angle (cos0, sin0). The sliders move once per (sub-)step,
-   at its start; a checkpoint stores them per particle in natural order, four values per middle
-   particle p1: cos0 and sin0 of the chain along the warp, then of the chain along the weft (exact
-   copies, so that a restarted run is bit-identical to an uninterrupted one). */
+   Each friction element sits beside an elastic spring, of one thread-bending chain (p0, p1, p2) or of one
+   cell's shear angle (corners p0..p3), and carries the slider's position as its rest angle (cos0, sin0).
+   The sliders move once per (sub-)step, at its start; a checkpoint stores them per particle in natural
+   order: for bending, four values per middle particle p1, cos0 and sin0 of the chain along the warp, then
+   of the chain along the weft; for shear, two values per cell at its first corner p0 = (i, j), which is
+   the first corner of no other cell. Exact copies, so that a restarted run is bit-identical to an
+   uninterrupted one. */
 #include "cloth_impl.h"
 
-#define HYSTERESIS_STATE_BS 4
+static ClothSliderFamily SliderFamily(const ClothAngle *angle)
+{
+  return angle->kind == CLOTH_ANGLE_CELL ? CLOTH_SLIDERS_SHEAR : CLOTH_SLIDERS_BEND;
+}
 
-/* Where a friction element's cos0 (then sin0) goes in the state Vec: its middle particle's row, slot 0 for the chain
-   along the warp (i), 1 along the weft (j); in a piece's natural numbering j nu + i the warp neighbours of a
-   particle are 1 apart, the weft neighbours nu >= 2. */
+static PetscInt SliderBlockSize(ClothSliderFamily family)
+{
+  return family == CLOTH_SLIDERS_BEND ? 4 : 2;
+}
+
+static PetscInt SliderCount(Cloth cloth, ClothSliderFamily family)
+{
+  return family == CLOTH_SLIDERS_BEND ? cloth->model->nfriction - cloth->model->nfriction_shear : cloth->model->nfriction_shear;
+}
+
+/* Where a friction element's cos0 (then sin0) goes in its family's state Vec. Bending: its middle particle's
+   row, slot 0 for the chain along the warp (i), 1 along the weft (j); in a piece's natural numbering j nu + i
+   the warp neighbours of a particle are 1 apart, the weft neighbours nu >= 2. Shear: the row of the cell's
+   first corner. */
 static PetscInt SliderIndex(Cloth cloth, const ClothAngle *angle)
 {
-  const PetscInt middle = cloth->natural_of_local[angle->p[1]], slot = middle - cloth->natural_of_local[angle->p[0]] == 1 ? 0 : 1;
+  PetscInt middle, slot;
 
-  return HYSTERESIS_STATE_BS * middle + 2 * slot;
+  if (SliderFamily(angle) == CLOTH_SLIDERS_SHEAR) return 2 * cloth->natural_of_local[angle->p[0]];
+  middle = cloth->natural_of_local[angle->p[1]];
+  slot   = middle - cloth->natural_of_local[angle->p[0]] == 1 ? 0 : 1;
+  return 4 * middle + 2 * slot;
 }
 
 PetscErrorCode ClothUpdateHysteresis(Cloth cloth, Vec position)
@@ -43,20 +62,22 @@ PetscErrorCode ClothUpdateHysteresis(Cloth cloth, Vec position)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode ClothHysteresisCreateStateVec(Cloth cloth, Vec *state)
+PetscErrorCode ClothHysteresisCreateStateVec(Cloth cloth, ClothSliderFamily family, Vec *state)
 {
+  const PetscInt bs = SliderBlockSize(family);
+
   PetscFunctionBeginUser;
   *state = NULL;
-  if (cloth->model->nfriction == 0) PetscFunctionReturn(PETSC_SUCCESS);
+  if (SliderCount(cloth, family) == 0) PetscFunctionReturn(PETSC_SUCCESS); /* the same on every rank */
   PetscCall(VecCreate(cloth->comm, state));
-  PetscCall(VecSetBlockSize(*state, HYSTERESIS_STATE_BS));
-  PetscCall(VecSetSizes(*state, PETSC_DECIDE, HYSTERESIS_STATE_BS * cloth->nglobal));
+  PetscCall(VecSetBlockSize(*state, bs));
+  PetscCall(VecSetSizes(*state, PETSC_DECIDE, bs * cloth->nglobal));
   PetscCall(VecSetFromOptions(*state));
-  PetscCall(PetscObjectSetName((PetscObject)*state, "bend_slider"));
+  PetscCall(PetscObjectSetName((PetscObject)*state, family == CLOTH_SLIDERS_BEND ? "bend_slider" : "shear_slider"));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode ClothHysteresisGetState(Cloth cloth, Vec state)
+PetscErrorCode ClothHysteresisGetState(Cloth cloth, ClothSliderFamily family, Vec state)
 {
   PetscFunctionBeginUser;
   PetscCall(VecZeroEntries(state));
@@ -65,7 +86,7 @@ PetscErrorCode ClothHysteresisGetState(Cloth cloth, Vec state)
     PetscInt          idx[2];
     PetscScalar       val[2];
 
-    if (angle->slip <= 0) continue;
+    if (angle->slip <= 0 || SliderFamily(angle) != family) continue;
     idx[0] = SliderIndex(cloth, angle);
     idx[1] = idx[0] + 1;
     val[0] = angle->cos0;
@@ -77,7 +98,7 @@ PetscErrorCode ClothHysteresisGetState(Cloth cloth, Vec state)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode ClothHysteresisSetState(Cloth cloth, Vec state)
+PetscErrorCode ClothHysteresisSetState(Cloth cloth, ClothSliderFamily family, Vec state)
 {
   VecScatter         to_all;
   Vec                all;
@@ -93,11 +114,11 @@ PetscErrorCode ClothHysteresisSetState(Cloth cloth, Vec state)
     PetscInt    row;
     PetscReal   c, sn;
 
-    if (angle->slip <= 0) continue;
+    if (angle->slip <= 0 || SliderFamily(angle) != family) continue;
     row = SliderIndex(cloth, angle);
     c   = PetscRealPart(s[row]);
     sn  = PetscRealPart(s[row + 1]);
-    PetscCheck(PetscAbsReal(c * c + sn * sn - 1) < 1e-12, PETSC_COMM_SELF, PETSC_ERR_FILE_UNEXPECTED, "Checkpoint bend_slider: particle %" PetscInt_FMT " has no slider angle (cos %g, sin %g)", cloth->natural_of_local[angle->p[1]], (double)c,
+    PetscCheck(PetscAbsReal(c * c + sn * sn - 1) < 1e-12, PETSC_COMM_SELF, PETSC_ERR_FILE_UNEXPECTED, "Checkpoint %s: particle %" PetscInt_FMT " has no slider angle (cos %g, sin %g)", family == CLOTH_SLIDERS_BEND ? "bend_slider" : "shear_slider", SliderIndex(cloth, angle) / SliderBlockSize(family), (double)c,
                (double)sn);
     angle->cos0 = c;
     angle->sin0 = sn;

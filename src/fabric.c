@@ -30,6 +30,8 @@ PetscErrorCode FabricSetFromKES(const FabricKES *kes, SceneFabric *fabric)
   fabric->bend_hysteresis_weft = 0.5 * kes->hysteresis_weft * FABRIC_KES_MOMENT_SI;
   fabric->shear                = kes->shear * FABRIC_KES_SHEAR_SI;
   fabric->shear_model          = CLOTH_SHEAR_CELL;
+  /* the loop of KES-FB1 is F = G phi +- HG: its width 2HG is twice the friction force */
+  fabric->shear_hysteresis = 0.5 * kes->shear_hysteresis * FABRIC_KES_FORCE_SI;
   if (kes->lt_warp > 0) {
     PetscCall(FabricBiphasicFromKES(kes->emt_warp, kes->lt_warp, &fabric->stretch_warp, &fabric->stretch_stiff_warp, &fabric->stretch_knee_warp));
     PetscCall(FabricBiphasicFromKES(kes->emt_weft, kes->lt_weft, &fabric->stretch_weft, &fabric->stretch_stiff_weft, &fabric->stretch_knee_weft));

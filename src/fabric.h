@@ -22,6 +22,7 @@
 #define FABRIC_KES_SHEAR_SI (0.980665 * 180.0 / PETSC_PI)  /* 1 gf/cm/degree = 0.980665 N/m per degree, in N/m per radian */
 #define FABRIC_KES_WEIGHT_SI 1e-2                          /* 1 mg/cm^2 = 1e-6 kg / 1e-4 m^2, in kg/m^2 */
 #define FABRIC_KES_MOMENT_SI 9.80665e-3                    /* 1 gf cm/cm (moment per unit width) in N m/m */
+#define FABRIC_KES_FORCE_SI 0.980665                       /* 1 gf/cm (force per unit width) in N/m */
 #define FABRIC_KES_TENSILE_FM (500.0 * FABRIC_GF_N / 1e-2) /* KES-FB1 standard maximum load 500 gf/cm, in N/m */
 
 /* One fabric as KES-F measures it, in KES units. LT = 0 means "not measured" (linear curve). */
@@ -33,6 +34,7 @@ typedef struct {
   PetscReal lt_warp, lt_weft;     /* LT, tensile linearity (0.5 < LT < 1.5), 0 = not given */
   PetscReal hysteresis_warp;      /* 2HB, gf cm/cm: width of the bending hysteresis loop (0 = not given: elastic) */
   PetscReal hysteresis_weft;
+  PetscReal shear_hysteresis;     /* 2HG, gf/cm: width of the shear hysteresis loop at 0.5 degree (0 = not given: elastic) */
 } FabricKES;
 
 /* Sets density, stretch (secant modulus Fm/EMT, or a biphasic curve through the same work WT when LT is given),

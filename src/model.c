@@ -165,7 +165,13 @@ static PetscErrorCode AddCellInteractions(ClothModel model, const PieceContext *
           AddLink(model, pc->offset + c[d], pc->offset + c[d + 2], FabricShearLinkStiffness(pc->fabric, rest, area), rest, 0, 0);
         }
       } else if (pc->fabric->shear_model == CLOTH_SHEAR_CELL) {
-        AddAngle(model, pc, CLOTH_ANGLE_CELL, c, FabricShearCellStiffness(pc->fabric, area));
+        const PetscReal k = FabricShearCellStiffness(pc->fabric, area);
+
+        AddAngle(model, pc, CLOTH_ANGLE_CELL, c, k);
+        if (pc->fabric->shear_hysteresis > 0) { /* the Jenkins element of shear hysteresis: gives way at HG A (forces.h) */
+          AddAngle(model, pc, CLOTH_ANGLE_CELL, c, CLOTH_HYSTERESIS_STIFFNESS * k);
+          model->angles[model->nangles - 1].slip = pc->fabric->shear_hysteresis * area / (CLOTH_HYSTERESIS_STIFFNESS * k);
+        }
       } else {
         for (PetscInt k = 0; k < 4; k++) {
           const PetscInt local[3] = {c[k], c[(k + 1) % 4], c[(k + 3) % 4]};
@@ -378,7 +384,10 @@ PetscErrorCode ClothModelCreate(Scene scene, ClothModel *model)
   for (PetscInt k = 0; k < scene->npieces; k++) PetscCall(PetscFree(uvs[k]));
   PetscCall(PetscFree(uvs));
   *model = m;
-  for (PetscInt a = 0; a < m->nangles; a++) m->nfriction += m->angles[a].slip > 0;
+  for (PetscInt a = 0; a < m->nangles; a++) {
+    m->nfriction += m->angles[a].slip > 0;
+    m->nfriction_shear += m->angles[a].slip > 0 && m->angles[a].kind == CLOTH_ANGLE_CELL;
+  }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

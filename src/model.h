@@ -17,7 +17,8 @@ struct _n_ClothModel {
   ClothLink     *links; /* particle indices in natural order */
   PetscInt       nangles;
   ClothAngle    *angles;
-  PetscInt       nfriction; /* of which friction elements (slip > 0: bending hysteresis) */
+  PetscInt       nfriction;       /* of which friction elements (slip > 0: bending and shear hysteresis) */
+  PetscInt       nfriction_shear; /* of those, on the cell shear angle (shear hysteresis) */
   PetscInt       nquads;
   PetscInt      *quads; /* 4 per grid cell, counter-clockwise in the pattern plane */
   PetscInt       npieces;

@@ -37,7 +37,7 @@ struct _n_ClothRun {
   Vec      natural_strain;                                 /* one value per particle, for frames */
   Vec      natural_body_contact, natural_self_contact;     /* contact fields of frames (output.h); zero when off */
   Vec      natural_sewn;                                   /* sewn seams per particle (sewing.h), checkpoints */
-  Vec      natural_slider;                                 /* bending-hysteresis sliders (cloth.h), checkpoints; NULL without */
+  Vec      natural_slider[2];                              /* hysteresis sliders by ClothSliderFamily (cloth.h), checkpoints; NULL without */
   char     last_checkpoint[CLOTH_PATH_LEN];
   PetscInt krylov_total, substeps_total;
 };
@@ -151,9 +151,10 @@ static PetscErrorCode ClothRunFillCheckpointInfo(ClothRun run, ClothCheckpointIn
    (without which a restarted run's first Krylov solves would start from zero and differ from an
    uninterrupted run's at the solver tolerance; left out with with_dv false), in scenes with bodies,
    the contact normals of the particles held on a body (the constraints of the next step), the sewn seams,
-   and the sliders of bending hysteresis (without which the fabric would forget its friction). A field new
-   state adds goes here. */
-static PetscErrorCode ClothRunCheckpointFields(ClothRun run, PetscBool with_dv, ClothCheckpointField fields[6], PetscInt *nfields)
+   and the sliders of bending and shear hysteresis (without which the fabric would forget its friction). A field
+   new state adds goes here (and CLOTH_RUN_MAX_FIELDS grows). */
+#define CLOTH_RUN_MAX_FIELDS 7
+static PetscErrorCode ClothRunCheckpointFields(ClothRun run, PetscBool with_dv, ClothCheckpointField fields[CLOTH_RUN_MAX_FIELDS], PetscInt *nfields)
 {
   PetscInt n = 0;
 
@@ -163,7 +164,8 @@ static PetscErrorCode ClothRunCheckpointFields(ClothRun run, PetscBool with_dv, 
   if (with_dv) fields[n++] = (ClothCheckpointField){"implicit_dv", run->natural_dv, PETSC_FALSE, PETSC_FALSE};
   if (run->natural_contact) fields[n++] = (ClothCheckpointField){"contact_normal", run->natural_contact, PETSC_FALSE, PETSC_FALSE};
   if (run->natural_sewn) fields[n++] = (ClothCheckpointField){"seams_sewn", run->natural_sewn, PETSC_TRUE, PETSC_FALSE};
-  if (run->natural_slider) fields[n++] = (ClothCheckpointField){"bend_slider", run->natural_slider, PETSC_TRUE, PETSC_FALSE};
+  for (PetscInt f = 0; f < 2; f++)
+    if (run->natural_slider[f]) fields[n++] = (ClothCheckpointField){f == CLOTH_SLIDERS_BEND ? "bend_slider" : "shear_slider", run->natural_slider[f], PETSC_TRUE, PETSC_FALSE};
   *nfields = n;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -200,7 +202,7 @@ static PetscErrorCode ClothRunAdoptCheckpointSettings(ClothRun run, const ClothC
 static PetscErrorCode ClothRunRestore(ClothRun run)
 {
   ClothCheckpointInfo  expect, info;
-  ClothCheckpointField fields[6];
+  ClothCheckpointField fields[CLOTH_RUN_MAX_FIELDS];
   PetscInt             nfields;
   Vec                  x, v, normals;
 
@@ -222,7 +224,8 @@ static PetscErrorCode ClothRunRestore(ClothRun run)
   run->step = (PetscInt)info.step;
   run->time = info.time;
   if (run->sewing) PetscCall(ClothSewingSetStateVec(run->sewing, run->natural_sewn, run->time));
-  if (run->natural_slider) PetscCall(ClothHysteresisSetState(run->cloth, run->natural_slider));
+  for (PetscInt f = 0; f < 2; f++)
+    if (run->natural_slider[f]) PetscCall(ClothHysteresisSetState(run->cloth, (ClothSliderFamily)f, run->natural_slider[f]));
   PetscCall(ClothRunAdoptCheckpointSettings(run, &info));
   PetscCall(PetscPrintf(run->comm, "Restarting from %s: step %" PetscInt_FMT ", t = %.6f s, dt = %g s (written by integrator %s, %s)\n", run->restart, run->step, (double)run->time, (double)info.dt, info.integrator,
                         fields[2].found ? "with its warm start" : "without a warm start"));
@@ -314,7 +317,7 @@ PetscErrorCode ClothRunSetUp(ClothRun run)
     if (run->self_contact) PetscCall(ClothSelfContactSetExclusion(run->self_contact, ClothSewingExcludeContact, run->sewing));
     PetscCall(VecDuplicate(run->natural_strain, &run->natural_sewn)); /* one value per particle */
   }
-  PetscCall(ClothHysteresisCreateStateVec(run->cloth, &run->natural_slider));
+  for (PetscInt f = 0; f < 2; f++) PetscCall(ClothHysteresisCreateStateVec(run->cloth, (ClothSliderFamily)f, &run->natural_slider[f]));
   PetscCall(PetscObjectSetName((PetscObject)run->natural_position, "position"));
   PetscCall(PetscObjectSetName((PetscObject)run->natural_velocity, "velocity"));
   if (run->restart[0]) PetscCall(ClothRunRestore(run));
@@ -382,7 +385,7 @@ static PetscErrorCode ClothRunWriteFrame(ClothRun run)
 static PetscErrorCode ClothRunWriteCheckpoint(ClothRun run)
 {
   ClothCheckpointInfo  info;
-  ClothCheckpointField fields[6];
+  ClothCheckpointField fields[CLOTH_RUN_MAX_FIELDS];
   PetscInt             nfields;
   Vec                  dv, normals;
 
@@ -396,7 +399,8 @@ static PetscErrorCode ClothRunWriteCheckpoint(ClothRun run)
     PetscCall(ClothScatterToNatural(run->cloth, normals, run->natural_contact, SCATTER_FORWARD));
   }
   if (run->sewing) PetscCall(ClothSewingGetStateVec(run->sewing, run->natural_sewn));
-  if (run->natural_slider) PetscCall(ClothHysteresisGetState(run->cloth, run->natural_slider));
+  for (PetscInt f = 0; f < 2; f++)
+    if (run->natural_slider[f]) PetscCall(ClothHysteresisGetState(run->cloth, (ClothSliderFamily)f, run->natural_slider[f]));
   PetscCall(ClothRunCheckpointFields(run, dv ? PETSC_TRUE : PETSC_FALSE, fields, &nfields));
   PetscCall(ClothRunFillCheckpointInfo(run, &info));
   PetscCall(ClothCheckpointWrite(run->comm, run->output_dir, &info, nfields, fields, run->checkpoint_keep, run->last_checkpoint, sizeof(run->last_checkpoint)));
@@ -553,7 +557,8 @@ PetscErrorCode ClothRunDestroy(ClothRun *run)
   PetscCall(VecDestroy(&r->natural_body_contact));
   PetscCall(VecDestroy(&r->natural_self_contact));
   PetscCall(VecDestroy(&r->natural_sewn));
-  PetscCall(VecDestroy(&r->natural_slider));
+  PetscCall(VecDestroy(&r->natural_slider[CLOTH_SLIDERS_BEND]));
+  PetscCall(VecDestroy(&r->natural_slider[CLOTH_SLIDERS_SHEAR]));
   PetscCall(PetscFree(*run));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -10,6 +10,8 @@
          stretch: 1000                # N/m, > 0; or stretch_warp / stretch_weft (each defaults to stretch)
          shear: 1000                  # N/m, default 0, >= 0
          shear_model: link            # link | angle | cell (default link)
+         shear_hysteresis: 0          # cell model: friction shear force HG per unit width, N/m (KES 2HG / 2);
+                                      # default 0 (elastic), >= 0; or shear_hysteresis_ratio: 2HG/G, rad
          bend: 10                     # link model: N/m per skip-one link; angle model: rigidity N m;
                                       # or bend_warp / bend_weft (each defaults to bend); default 0, >= 0
          bend_model: link             # link | angle (default link)
@@ -88,6 +90,8 @@ static const char *const SceneFabricKeys[]        = {"density",
                                                      "bend_hysteresis_warp",
                                                      "bend_hysteresis_weft",
                                                      "bend_hysteresis_ratio",
+                                                     "shear_hysteresis",
+                                                     "shear_hysteresis_ratio",
                                                      "damping",
                                                      "repulsion",
                                                      "repulsion_stiffness",
@@ -103,7 +107,7 @@ static const char *const SceneFabricKeys[]        = {"density",
 static const char *const ScenePieceKeys[]         = {"name", "fabric", "grid", "size", "boundaries", "origin", "u_axis", "v_axis", "mass", "pins", "pin_disc", "pin_box", "wrap", NULL};
 static const char *const SceneWrapKeys[]          = {"axis_point", "apex", "axis", NULL};
 static const char *const SceneBoundaryKeys[]      = {"bottom", "right", "top", "left", "nodes", NULL}; /* bottom, right, top, left: the order of ScenePiece.boundary_* */
-static const char *const SceneKESKeys[]           = {"W", "B_warp", "B_weft", "G", "EMT_warp", "EMT_weft", "LT_warp", "LT_weft", "2HB_warp", "2HB_weft", NULL};
+static const char *const SceneKESKeys[]           = {"W", "B_warp", "B_weft", "G", "EMT_warp", "EMT_weft", "LT_warp", "LT_weft", "2HB_warp", "2HB_weft", "2HG", NULL};
 static const char *const SceneArcKeys[]           = {"center", "radius", "from", "to", "segments", NULL};
 static const char *const ScenePinDiscKeys[]       = {"center", "radius", NULL};
 static const char *const ScenePinBoxKeys[]        = {"min", "max", NULL};
@@ -615,6 +619,7 @@ static PetscErrorCode ReadFabricKES(SceneReader *r, yaml_node_t *map, SceneFabri
   PetscCall(ReadReal(r, node, "LT_weft", PETSC_FALSE, SCENE_REAL_POSITIVE, NULL, &kes.lt_weft));
   PetscCall(ReadReal(r, node, "2HB_warp", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "gf cm/cm", &kes.hysteresis_warp));
   PetscCall(ReadReal(r, node, "2HB_weft", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "gf cm/cm", &kes.hysteresis_weft));
+  PetscCall(ReadReal(r, node, "2HG", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "gf/cm", &kes.shear_hysteresis));
   if ((kes.lt_warp > 0) != (kes.lt_weft > 0) || (kes.lt_warp > 0 && (kes.lt_warp <= 0.5 || kes.lt_warp >= 1.5 || kes.lt_weft <= 0.5 || kes.lt_weft >= 1.5)))
     PetscCall(SceneFailValue(r, node, "kes", "LT_warp and LT_weft both given or both absent, each in (0.5, 1.5) (a biphasic curve with its knee at EMT/2)"));
   PetscCall(FabricSetFromKES(&kes, fabric));
@@ -649,10 +654,39 @@ static PetscErrorCode ReadBendHysteresis(SceneReader *r, yaml_node_t *map, Scene
   PetscCall(SceneHasKey(r, map, "bend_hysteresis", &has_hb));
   PetscCall(SceneHasKey(r, map, "bend_hysteresis_warp", &has_warp));
   PetscCall(SceneHasKey(r, map, "bend_hysteresis_weft", &has_weft));
-  if (has_hb || has_warp || has_weft) PetscCall(SceneFailValue(r, map, "bend_hysteresis_ratio", "give bend_hysteresis_ratio or bend_hysteresis[_warp|_weft], not both"));
+  if (has_hb || has_warp || has_weft) {
+    yaml_node_t *node;
+
+    PetscCall(SceneGetValue(r, map, "bend_hysteresis_ratio", &node));
+    PetscCall(SceneFailValue(r, node, "bend_hysteresis_ratio", "no bend_hysteresis_ratio beside bend_hysteresis[_warp|_weft] (give one of them)"));
+  }
   PetscCall(ReadReal(r, map, "bend_hysteresis_ratio", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "2HB/B, 1/m", &ratio));
   fabric->bend_hysteresis_warp = 0.5 * ratio * fabric->bend_warp;
   fabric->bend_hysteresis_weft = 0.5 * ratio * fabric->bend_weft;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Shear hysteresis: HG (shear_hysteresis, N/m), or the KES ratio 2HG/G (shear_hysteresis_ratio, rad: the KES
+   ratio in degrees times pi/180), which sets HG = ratio G / 2 from the fabric's own shear modulus; not both.
+   Needs the cell shear model, whose spring measures the shear angle the friction acts on. */
+static PetscErrorCode ReadShearHysteresis(SceneReader *r, yaml_node_t *map, PetscInt shear_model, SceneFabric *fabric)
+{
+  PetscBool has_ratio = PETSC_FALSE, has_hg = PETSC_FALSE;
+  PetscReal ratio = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(ReadReal(r, map, "shear_hysteresis", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "friction shear force per unit width HG, N/m", &fabric->shear_hysteresis));
+  PetscCall(SceneHasKey(r, map, "shear_hysteresis_ratio", &has_ratio));
+  if (has_ratio) {
+    yaml_node_t *node;
+
+    PetscCall(SceneHasKey(r, map, "shear_hysteresis", &has_hg));
+    PetscCall(SceneGetValue(r, map, "shear_hysteresis_ratio", &node));
+    if (has_hg) PetscCall(SceneFailValue(r, node, "shear_hysteresis_ratio", "no shear_hysteresis_ratio beside shear_hysteresis (give one of them)"));
+    PetscCall(ReadReal(r, map, "shear_hysteresis_ratio", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "2HG/G, rad", &ratio));
+    fabric->shear_hysteresis = 0.5 * ratio * fabric->shear;
+  }
+  if (fabric->shear_hysteresis > 0 && shear_model != CLOTH_SHEAR_CELL) PetscCall(SceneFailValue(r, map, "shear_hysteresis", "shear hysteresis needs shear_model: cell"));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -676,6 +710,7 @@ static PetscErrorCode SceneReadFabric(SceneReader *r, yaml_node_t *name, yaml_no
   PetscCall(ReadStretchCurve(r, map, fabric));
   PetscCall(ReadReal(r, map, "shear", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "N/m", &fabric->shear));
   PetscCall(ReadChoice(r, map, "shear_model", PETSC_FALSE, ClothShearModels, &shear_model));
+  PetscCall(ReadShearHysteresis(r, map, shear_model, fabric));
   PetscCall(ReadChoice(r, map, "bend_model", PETSC_FALSE, ClothBendModels, &bend_model));
   PetscCall(ReadWarpWeft(r, map, "bend", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, bend_model == CLOTH_BEND_LINK ? "N/m per skip-one link" : "bending rigidity, N m", &fabric->bend_warp, &fabric->bend_weft));
   PetscCall(ReadBendHysteresis(r, map, fabric));
@@ -1473,6 +1508,7 @@ static PetscErrorCode SceneFabricView(const SceneFabric *f, PetscViewer viewer)
   if (f->stretch_knee_warp > 0 || f->stretch_knee_weft > 0)
     PetscCall(SceneAppendItem(list, sizeof(list), "beyond strain %g/%g: %g/%g N/m", (double)f->stretch_knee_warp, (double)f->stretch_knee_weft, (double)f->stretch_stiff_warp, (double)f->stretch_stiff_weft));
   PetscCall(SceneAppendItem(list, sizeof(list), "shear %g N/m (%s)", (double)f->shear, ClothShearModels[f->shear_model]));
+  if (f->shear_hysteresis > 0) PetscCall(SceneAppendItem(list, sizeof(list), "shear friction HG %g N/m", (double)f->shear_hysteresis));
   PetscCall(SceneAppendItem(list, sizeof(list), "bend %g/%g %s (warp/weft, %s)", (double)f->bend_warp, (double)f->bend_weft, f->bend_model == CLOTH_BEND_LINK ? "N/m" : "N m", ClothBendModels[f->bend_model]));
   if (f->bend_hysteresis_warp > 0 || f->bend_hysteresis_weft > 0) PetscCall(SceneAppendItem(list, sizeof(list), "bending friction HB %g/%g N m/m (warp/weft)", (double)f->bend_hysteresis_warp, (double)f->bend_hysteresis_weft));
   PetscCall(SceneAppendItem(list, sizeof(list), "damping %g 1/s", (double)f->damping));

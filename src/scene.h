@@ -35,6 +35,7 @@ typedef struct {
   PetscReal       stretch_weft; /* the same along the weft (v, j) threads, N/m (> 0) */
   PetscReal       shear;        /* in-plane shear modulus, N/m (>= 0) */
   ClothShearModel shear_model;
+  PetscReal       shear_hysteresis; /* cell model: friction shear force per unit width HG (half the KES 2HG), N/m (>= 0; 0 = elastic) */
   PetscReal       bend_warp, bend_weft; /* link model: N/m per skip-one link; angle model: bending rigidity, N m (>= 0) */
   ClothBendModel  bend_model;
   PetscReal       bend_hysteresis_warp;   /* angle model: friction moment per unit width HB (half the KES 2HB), N m/m (>= 0; 0 = elastic) */

@@ -4,8 +4,8 @@
   compare_restart.py A.h5 B.h5 [--atol-position X --atol-velocity V] [--series SA.h5 SB.h5]
 
 Checks that the /state attributes step, time, dt, integrator, scene_fingerprint and nparticles are
-equal and that /state/position, /state/velocity (and /state/implicit_dv, contact_normal, seams_sewn and
-bend_slider when A has them) are equal:
+equal and that /state/position, /state/velocity (and /state/implicit_dv, contact_normal, seams_sewn,
+bend_slider and shear_slider when A has them) are equal:
 bit for bit by default (a restart on the same ranks), or within the given absolute tolerances
 (another rank count; implicit_dv, a solver iterate, is then not compared). With --series, the two
 XDMF series files must hold the same frames (steps and times) with bit-identical datasets.
@@ -38,7 +38,7 @@ def compare_checkpoints(path_a, path_b, atol):
                 fail(f"/state attribute {key}: {sa.attrs[key]!r} in {path_a}, {sb.attrs[key]!r} in {path_b}")
         names = ["position", "velocity"]
         if atol is None:
-            names += [name for name in ("implicit_dv", "contact_normal", "seams_sewn", "bend_slider") if name in sa]
+            names += [name for name in ("implicit_dv", "contact_normal", "seams_sewn", "bend_slider", "shear_slider") if name in sa]
         for name in names:
             if name not in sb:
                 fail(f"{path_b} lacks /state/{name}")

@@ -69,8 +69,8 @@ static PetscErrorCode CheckTransfiniteSquare(void)
 
 static PetscErrorCode CheckKES(void)
 {
-  /* W 15 mg/cm^2, B 0.1/0.08 gf cm^2/cm, G 0.8 gf/cm/deg, EMT 5/8 %, LT 0.75/0.6, 2HB 0.06/0.04 gf cm/cm */
-  const FabricKES kes = {15, 0.1, 0.08, 0.8, 5, 8, 0.75, 0.6, 0.06, 0.04};
+  /* W 15 mg/cm^2, B 0.1/0.08 gf cm^2/cm, G 0.8 gf/cm/deg, EMT 5/8 %, LT 0.75/0.6, 2HB 0.06/0.04 gf cm/cm, 2HG 1.2 gf/cm */
+  const FabricKES kes = {15, 0.1, 0.08, 0.8, 5, 8, 0.75, 0.6, 0.06, 0.04, 1.2};
   const PetscReal fm  = 500 * 9.80665e-3 / 1e-2; /* 490.3325 N/m */
   SceneFabric     fabric;
   PetscReal       soft, stiff, knee, work = 0;
@@ -87,6 +87,8 @@ static PetscErrorCode CheckKES(void)
   /* the friction moment is half the loop's width: HB = 0.03 gf cm/cm = 0.03 x 9.80665e-3 N m/m */
   PetscCall(CheckClose(fabric.bend_hysteresis_warp, 2.941995e-4, 1e-12, "KES 2HB 0.06 gf cm/cm -> HB 2.941995e-4 N m/m"));
   PetscCall(CheckClose(fabric.bend_hysteresis_weft, 1.96133e-4, 1e-12, "KES 2HB 0.04 gf cm/cm -> HB 1.96133e-4 N m/m"));
+  /* and the friction force of shear: HG = 0.6 gf/cm = 0.6 x 0.980665 N/m */
+  PetscCall(CheckClose(fabric.shear_hysteresis, 0.588399, 1e-12, "KES 2HG 1.2 gf/cm -> HG 0.588399 N/m"));
   PetscCheck(fabric.bend_model == CLOTH_BEND_ANGLE && fabric.shear_model == CLOTH_SHEAR_CELL, PETSC_COMM_SELF, PETSC_ERR_PLIB, "KES values are rigidities: expected the angle bending and cell shear models");
   /* warp: LT 0.75 -> below the knee (2 LT - 1) Fm/EMT = 0.5 x 9806.65, beyond (3 - 2 LT) Fm/EMT = 1.5 x 9806.65 */
   PetscCall(CheckClose(fabric.stretch_warp, 0.5 * fm / 0.05, 1e-14, "KES warp modulus below the knee"));

@@ -7,6 +7,12 @@ clothsim_add_test_program(test_pattern test_pattern.c)
 # disc (pi 0.15^2 = 0.07068583 m^2); the outlines are polygons of 48-64 segments per arc, within 0.2%.
 clothsim_add_mpi_test(pattern_skirt_panel 1 $<TARGET_FILE:test_pattern> -scene input/skirt_panel.yaml -expect_area 0.2650718801466388 -area_rtol 5e-3)
 clothsim_add_mpi_test(pattern_cusick_disc 1 $<TARGET_FILE:test_pattern> -scene input/cusick_drape.yaml -expect_area 0.07068583470577035 -area_rtol 5e-3)
+
+# Virtual KES-F tests (tests/test_kes_loops.c): the shear loop of KES-FB1 and the bending loops of KES-FB2 run on
+# the model that the kes block of tests/data/kes_specimens.yaml builds give back its G, 2HG, B and 2HB within 2%.
+clothsim_add_test_program(test_kes_loops test_kes_loops.c)
+clothsim_add_mpi_test(kes_loops 1 $<TARGET_FILE:test_kes_loops> -scene tests/data/kes_specimens.yaml -expect_G 0.8 -expect_2HG 1.2
+  -expect_B_warp 0.1 -expect_B_weft 0.08 -expect_2HB_warp 0.06 -expect_2HB_weft 0.04 -rtol 0.02)
 # The skirt panel falls from flat and hangs from its waist: at rest after 8 s (damping 3 1/s), its hem
 # R - r = 0.45 m below the waist (the lowest particle drops 0.45 m, within 2%: the hem stretches a little).
 # One rank with a direct solve: CG + point-block Jacobi needs ~1000 iterations per step here.
