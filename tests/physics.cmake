@@ -36,7 +36,8 @@ clothsim_add_script_test(bend_hysteresis_cantilever bend_hysteresis.sh)
 set_tests_properties(bend_hysteresis_cantilever PROPERTIES PROCESSORS 2 TIMEOUT 300)
 
 # Shear hysteresis in a run (tests/shear_hysteresis.sh, 2 ranks): a panel sheared in its plane by tilted gravity;
-# the sliders slide, the friction cuts the shear displacement below 0.7 of the elastic (measured 0.48), restart
+# the sliders slide; the bottom edge moves as far as the rows of cells shear, each holding the weight below it
+# (elastic, or stick then slide), within 8 % (measured +5.0 % with shear friction, +3.0 % without), restart
 # bit-identical (shear_slider in the checkpoint), refused with the link shear model, shear_hysteresis_ratio.
 clothsim_add_script_test(shear_hysteresis_panel shear_hysteresis.sh)
 set_tests_properties(shear_hysteresis_panel PROPERTIES PROCESSORS 2 TIMEOUT 300)
