@@ -7,6 +7,7 @@
 #   VALIDATION_JOBS=2 bash jobs/validation.sh             (two drape runs at once)
 #   VALIDATION_BEND_HYSTERESIS_RATIO=2 VALIDATION_GRIDS=49 bash jobs/validation.sh build output/validation_hysteresis
 #       (only the six published fabrics, with bending hysteresis 2HB/B = 2 1/cm: docs/validation.md, section 5.2)
+#   VALIDATION_SHEAR_HYSTERESIS_RATIO=1.5 ... (the same with shear hysteresis 2HG/G = 1.5 degrees; both may be set)
 #   VALIDATION_TRIALS="1 2 3" VALIDATION_GRIDS=49 bash jobs/validation.sh build output/validation_trials
 #       (only the six published fabrics, one run per trial, each started with its own seeded imperfections of
 #       VALIDATION_PERTURBATION m, default 0.0001: -cloth_perturbation; the table gives each trial and their mean)
@@ -32,6 +33,9 @@ grids=(${VALIDATION_GRIDS:-49 65})
 # Bending hysteresis 2HB/B in 1/cm for the published fabrics (their measured 2HB are not known); set, only they run.
 hysteresis_ratio=${VALIDATION_BEND_HYSTERESIS_RATIO:-}
 [[ -z $hysteresis_ratio ]] || presets=()
+# Shear hysteresis 2HG/G in degrees (KES units) for the published fabrics (their 2HG are not known either).
+shear_hysteresis_ratio=${VALIDATION_SHEAR_HYSTERESIS_RATIO:-}
+[[ -z $shear_hysteresis_ratio ]] || presets=()
 # Trials (perturbation seeds) of the published fabrics' drape, as a drape tester repeats a test; set, only they run.
 trials=(${VALIDATION_TRIALS:-})
 perturbation=${VALIDATION_PERTURBATION:-0.0001}
@@ -79,6 +83,9 @@ for preset in "${presets[@]}" "${published[@]%%=*}"; do
   if [[ -n $hysteresis_ratio ]]; then # 1/cm -> 1/m
     sed -i "s/^    damping: 4 /    bend_hysteresis_ratio: $(awk "BEGIN {print 100 * $hysteresis_ratio}")\n    damping: 4 /" "$out/cusick_$preset.yaml"
   fi
+  if [[ -n $shear_hysteresis_ratio ]]; then # degrees -> rad
+    sed -i "s/^    damping: 4 /    shear_hysteresis_ratio: $(awk "BEGIN {printf \"%.10g\", $shear_hysteresis_ratio * 3.14159265358979 / 180}")\n    damping: 4 /" "$out/cusick_$preset.yaml"
+  fi
   for n in "${grids[@]}"; do
     for trial in "${trials[@]:-}"; do
       drape "$preset" "$n" $trial &
@@ -89,9 +96,9 @@ done
 while (( $(jobs -rp | wc -l) > 0 )); do wait -n; done
 
 # 3. Tables
-$py - "$out" "$dt" "${hysteresis_ratio:-0}" "${published[*]}" "${trials[*]:-}" "$perturbation" "${grids[@]}" <<'PY' > "$out/summary.md"
+$py - "$out" "$dt" "${hysteresis_ratio:-0}" "${shear_hysteresis_ratio:-0}" "${published[*]}" "${trials[*]:-}" "$perturbation" "${grids[@]}" <<'PY' > "$out/summary.md"
 import json, sys, glob, os, statistics
-out, dt, ratio, published, trials, perturbation, grids = sys.argv[1], sys.argv[2], float(sys.argv[3]), sys.argv[4].split(), sys.argv[5].split(), float(sys.argv[6]), sys.argv[7:]
+out, dt, ratio, shear_ratio, published, trials, perturbation, grids = sys.argv[1], sys.argv[2], float(sys.argv[3]), float(sys.argv[4]), sys.argv[5].split(), sys.argv[6].split(), float(sys.argv[7]), sys.argv[8:]
 cant = json.load(open(os.path.join(out, "cantilever.json"))) if os.path.exists(os.path.join(out, "cantilever.json")) else []
 if cant:
     print("| fabric | direction | c = (B/W)^(1/3) from the preset, cm | simulated c = 0.5093 l*, cm | error |")
@@ -113,6 +120,7 @@ if cant:
         print(f"| {fabric} | {sum(mean_c[fabric]) / len(mean_c[fabric]):.3f} | " + " | ".join(cells) + f" | {dcs[-1] - dcs[0]:+.3f} |")
     print()
 hysteresis = f", bending hysteresis 2HB/B = {ratio:g} 1/cm (assumed)" if ratio > 0 else ""
+hysteresis += f", shear hysteresis 2HG/G = {shear_ratio:g} degree (assumed)" if shear_ratio > 0 else ""
 if trials:
     print(f"Published drape coefficients (dt {dt} s{hysteresis}), one trial per seed of the start imperfections "
           f"(-cloth_perturbation {perturbation:g} m): simulated against measured, error = mean - measured")

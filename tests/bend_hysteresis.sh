@@ -9,22 +9,9 @@
 #   sets HB = ratio B / 2.
 set -eu
 : "${CLOTHSIM:?set CLOTHSIM to the clothsim binary}"
-out=${CLOTHSIM_BUILD:-build}/test-output/bend_hysteresis
-rm -rf "$out"
-mkdir -p "$out"
+source tests/hysteresis_runs.sh
 scene=tests/data/hysteresis_cantilever.yaml
-sed 's/^    bend_hysteresis: .*/    bend_hysteresis: 0/' "$scene" > "$out/elastic.yaml"
-sed 's/^    bend_model: angle/    bend_model: link/' "$scene" > "$out/link.yaml"
-run() { # run DIR SCENE ARGS...
-  local dir=$1 sc=$2
-  shift 2
-  mpiexec -n 2 "$CLOTHSIM" -scene "$sc" -gravity_ramp 2 -ksp_rtol 1e-12 -output_dir "$out/$dir" "$@" > "$out/$dir.log" 2>&1 || { tail -20 "$out/$dir.log"; exit 1; }
-}
-run full "$scene"
-run elastic "$out/elastic.yaml"
-run split "$scene" -steps 400
-run split "$scene" -restart "$out/split/checkpoint_000400.h5"
-/usr/bin/python3 tests/compare_restart.py "$out/full/checkpoint_000800.h5" "$out/split/checkpoint_000800.h5"
+hysteresis_runs "${CLOTHSIM_BUILD:-build}/test-output/bend_hysteresis" "$scene" bend_hysteresis 2 800
 /usr/bin/python3 - "$out/full/checkpoint_000800.h5" "$out/elastic/checkpoint_000800.h5" <<'PY'
 import sys
 import h5py
@@ -53,13 +40,7 @@ for path, HB in zip(sys.argv[1:], (2.4525e-3, 0.0)):
 if failed:
     sys.exit("FAIL: tip deflection off the loading branch by more than 1 %")
 PY
-if mpiexec -n 1 "$CLOTHSIM" -scene "$out/link.yaml" -steps 1 -output_dir "$out/link" > "$out/link.log" 2>&1; then
-  echo "FAIL: bend_hysteresis accepted with the link bending model"
-  exit 1
-fi
-grep -q "bending hysteresis needs bend_model: angle" "$out/link.log" || { echo "FAIL: no clear message"; tail -5 "$out/link.log"; exit 1; }
+hysteresis_refused "$scene" 's/^    bend_model: angle/    bend_model: link/' "bending hysteresis needs bend_model: angle"
 # bend_hysteresis_ratio = 2HB/B: 0.981 1/m of B = 5e-3 N m is the same HB = 2.4525e-3 N m/m in both directions
-sed 's/^    bend_hysteresis: .*/    bend_hysteresis_ratio: 0.981/' "$scene" > "$out/ratio.yaml"
-mpiexec -n 1 "$CLOTHSIM" -scene "$out/ratio.yaml" -steps 1 -output_dir "$out/ratio" > "$out/ratio.log" 2>&1 || { tail -5 "$out/ratio.log"; exit 1; }
-grep -q "bending friction HB 0.0024525/0.0024525 N m/m" "$out/ratio.log" || { echo "FAIL: bend_hysteresis_ratio 0.981 1/m did not give HB 0.0024525 N m/m"; grep fabric "$out/ratio.log"; exit 1; }
+hysteresis_setup_says "$scene" 's/^    bend_hysteresis: .*/    bend_hysteresis_ratio: 0.981/' "bending friction HB 0.0024525/0.0024525 N m/m"
 echo "bend hysteresis: loading branch and restart as expected; refused with link bending"

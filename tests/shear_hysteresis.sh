@@ -14,22 +14,9 @@
 # The element's loop against KES-FB1 (G and 2HG given back within 2%) is the ctest kes_loops.
 set -eu
 : "${CLOTHSIM:?set CLOTHSIM to the clothsim binary}"
-out=${CLOTHSIM_BUILD:-build}/test-output/shear_hysteresis
-rm -rf "$out"
-mkdir -p "$out"
+source tests/hysteresis_runs.sh
 scene=tests/data/shear_panel.yaml
-sed 's/^    shear_hysteresis: .*/    shear_hysteresis: 0/' "$scene" > "$out/elastic.yaml"
-sed 's/^    shear_model: cell/    shear_model: link/' "$scene" > "$out/link.yaml"
-run() { # run DIR SCENE ARGS...
-  local dir=$1 sc=$2
-  shift 2
-  mpiexec -n 2 "$CLOTHSIM" -scene "$sc" -gravity_ramp 1.5 -ksp_rtol 1e-12 -output_dir "$out/$dir" "$@" > "$out/$dir.log" 2>&1 || { tail -20 "$out/$dir.log"; exit 1; }
-}
-run full "$scene"
-run elastic "$out/elastic.yaml"
-run split "$scene" -steps 150
-run split "$scene" -restart "$out/split/checkpoint_000150.h5"
-/usr/bin/python3 tests/compare_restart.py "$out/full/checkpoint_000300.h5" "$out/split/checkpoint_000300.h5"
+hysteresis_runs "${CLOTHSIM_BUILD:-build}/test-output/shear_hysteresis" "$scene" shear_hysteresis 1.5 300
 /usr/bin/python3 - "$out/full/checkpoint_000300.h5" "$out/elastic/checkpoint_000300.h5" <<'PY'
 import sys
 import h5py
@@ -72,13 +59,7 @@ for xi, hg in zip(x, (HG, 0.0)):
 if failed:
     sys.exit("FAIL: the panel's shear displacement is off the row sum by more than 8 %")
 PY
-if mpiexec -n 1 "$CLOTHSIM" -scene "$out/link.yaml" -steps 1 -output_dir "$out/link" > "$out/link.log" 2>&1; then
-  echo "FAIL: shear_hysteresis accepted with the link shear model"
-  exit 1
-fi
-grep -q "shear hysteresis needs shear_model: cell" "$out/link.log" || { echo "FAIL: no clear message"; tail -5 "$out/link.log"; exit 1; }
+hysteresis_refused "$scene" 's/^    shear_model: cell/    shear_model: link/' "shear hysteresis needs shear_model: cell"
 # shear_hysteresis_ratio = 2HG/G: 2 x 0.1 / 45 rad is HG = 0.1 N/m
-sed 's/^    shear_hysteresis: .*/    shear_hysteresis_ratio: 0.0044444444444444444/' "$scene" > "$out/ratio.yaml"
-mpiexec -n 1 "$CLOTHSIM" -scene "$out/ratio.yaml" -steps 1 -output_dir "$out/ratio" > "$out/ratio.log" 2>&1 || { tail -5 "$out/ratio.log"; exit 1; }
-grep -q "shear friction HG 0.1 N/m" "$out/ratio.log" || { echo "FAIL: shear_hysteresis_ratio 2 x 0.1/45 rad did not give HG 0.1 N/m"; grep fabric "$out/ratio.log"; exit 1; }
+hysteresis_setup_says "$scene" 's/^    shear_hysteresis: .*/    shear_hysteresis_ratio: 0.0044444444444444444/' "shear friction HG 0.1 N/m"
 echo "shear hysteresis: sliders slide, displacement on the row sum, restart bit-identical; refused with link shear"
