@@ -10,7 +10,9 @@
 #   VALIDATION_SHEAR_HYSTERESIS_RATIO=1.5 ... (the same with shear hysteresis 2HG/G = 1.5 degrees; both may be set)
 #   VALIDATION_TRIALS="1 2 3" VALIDATION_GRIDS=49 bash jobs/validation.sh build output/validation_trials
 #       (only the six published fabrics, one run per trial, each started with its own seeded imperfections of
-#       VALIDATION_PERTURBATION m, default 0.0001: -cloth_perturbation; the table gives each trial and their mean)
+#       VALIDATION_PERTURBATION m, default 0.0001: -cloth_perturbation; the table gives each trial and their mean;
+#       VALIDATION_PERTURBATION_WAVELENGTH L m makes them a smooth field of wavelengths L-3L, the same at every grid)
+#   VALIDATION_PUBLISHED="m1 m4" ... (only those of the published fabrics: petrak_m1_*, petrak_m4_*)
 #
 # Also a Slurm batch script: sbatch --ntasks=1 --time=02:00:00 jobs/validation.sh
 # Runs one rank per run with a direct Cholesky solve (-pc_type cholesky): the stiff tensile links against
@@ -39,6 +41,14 @@ shear_hysteresis_ratio=${VALIDATION_SHEAR_HYSTERESIS_RATIO:-}
 # Trials (perturbation seeds) of the published fabrics' drape, as a drape tester repeats a test; set, only they run.
 trials=(${VALIDATION_TRIALS:-})
 perturbation=${VALIDATION_PERTURBATION:-0.0001}
+perturbation_wavelength=${VALIDATION_PERTURBATION_WAVELENGTH:-0}
+if [[ -n ${VALIDATION_PUBLISHED:-} ]]; then
+  selected=()
+  for pair in "${published[@]}"; do
+    for want in $VALIDATION_PUBLISHED; do [[ $pair != petrak_${want}_* ]] || selected+=("$pair"); done
+  done
+  published=("${selected[@]}")
+fi
 (( ${#trials[@]} == 0 )) || presets=()
 # Drape runs at once (one rank each); VALIDATION_JOBS=2 uses both cores of a 2-core machine.
 jobs=${VALIDATION_JOBS:-1}
@@ -69,7 +79,7 @@ fi
 drape() { # drape PRESET N [TRIAL]: one drape run and its measurement in $out/cusick_PRESET_N[_tTRIAL].json
   local preset=$1 n=$2 trial=${3:-}
   local name=cusick_${preset}_$n${trial:+_t$trial} start=()
-  [[ -z $trial ]] || start=(-cloth_perturbation "$perturbation" -cloth_perturbation_seed "$trial")
+  [[ -z $trial ]] || start=(-cloth_perturbation "$perturbation" -cloth_perturbation_seed "$trial" -cloth_perturbation_wavelength "$perturbation_wavelength")
   run "$name" -scene "$out/cusick_$preset.yaml" -grid "$n" -dt "$dt" -t_final 4 -output_dir "$out/$name" "${start[@]}"
   $py postprocess/cusick_drape.py "$(ls "$out/$name"/checkpoint_*.h5 | tail -1)" --scene "$out/cusick_$preset.yaml" --grid "$n" --json > "$out/$name.json"
   # not yet at rest (max speed above 1 mm/s): continue from the last checkpoint to 8 s
@@ -96,9 +106,9 @@ done
 while (( $(jobs -rp | wc -l) > 0 )); do wait -n; done
 
 # 3. Tables
-$py - "$out" "$dt" "${hysteresis_ratio:-0}" "${shear_hysteresis_ratio:-0}" "${published[*]}" "${trials[*]:-}" "$perturbation" "${grids[@]}" <<'PY' > "$out/summary.md"
+$py - "$out" "$dt" "${hysteresis_ratio:-0}" "${shear_hysteresis_ratio:-0}" "${published[*]}" "${trials[*]:-}" "$perturbation" "$perturbation_wavelength" "${grids[@]}" <<'PY' > "$out/summary.md"
 import json, sys, glob, os, statistics
-out, dt, ratio, shear_ratio, published, trials, perturbation, grids = sys.argv[1], sys.argv[2], float(sys.argv[3]), float(sys.argv[4]), sys.argv[5].split(), sys.argv[6].split(), float(sys.argv[7]), sys.argv[8:]
+out, dt, ratio, shear_ratio, published, trials, perturbation, wavelength, grids = sys.argv[1], sys.argv[2], float(sys.argv[3]), float(sys.argv[4]), sys.argv[5].split(), sys.argv[6].split(), float(sys.argv[7]), float(sys.argv[8]), sys.argv[9:]
 cant = json.load(open(os.path.join(out, "cantilever.json"))) if os.path.exists(os.path.join(out, "cantilever.json")) else []
 if cant:
     print("| fabric | direction | c = (B/W)^(1/3) from the preset, cm | simulated c = 0.5093 l*, cm | error |")
@@ -123,7 +133,8 @@ hysteresis = f", bending hysteresis 2HB/B = {ratio:g} 1/cm (assumed)" if ratio >
 hysteresis += f", shear hysteresis 2HG/G = {shear_ratio:g} degree (assumed)" if shear_ratio > 0 else ""
 if trials:
     print(f"Published drape coefficients (dt {dt} s{hysteresis}), one trial per seed of the start imperfections "
-          f"(-cloth_perturbation {perturbation:g} m): simulated against measured, error = mean - measured")
+          f"(-cloth_perturbation {perturbation:g} m" + (f", a smooth field of wavelengths {wavelength:g}-{3 * wavelength:g} m" if wavelength > 0 else "") +
+          "): simulated against measured, error = mean - measured")
     print()
     for n in grids:
         print(f"| fabric | measured DC | " + " | ".join(f"trial {t}: DC (folds)" for t in trials) + f" | mean, {n} nodes | sd | error |")

@@ -29,8 +29,11 @@ PetscErrorCode ClothSetFromOptions(Cloth cloth)
   PetscCall(PetscOptionsReal("-cloth_perturbation", "Amplitude, m, of a seeded random displacement of the free particles along the fabric's normal at the start (a real specimen's imperfections; 0: none)", "ClothModelPerturbPositions",
                              cloth->perturbation, &cloth->perturbation, NULL));
   PetscCall(PetscOptionsInt("-cloth_perturbation_seed", "Seed of -cloth_perturbation (one trial of a test per seed)", "ClothModelPerturbPositions", cloth->perturbation_seed, &cloth->perturbation_seed, NULL));
+  PetscCall(PetscOptionsReal("-cloth_perturbation_wavelength", "Shortest wavelength, m, of a smooth -cloth_perturbation field, the same at any resolution (0: independent per particle)", "ClothModelPerturbPositions", cloth->perturbation_wavelength,
+                             &cloth->perturbation_wavelength, NULL));
   PetscOptionsEnd();
   PetscCheck(cloth->perturbation >= 0, cloth->comm, PETSC_ERR_USER_INPUT, "-cloth_perturbation must not be negative, got %g", (double)cloth->perturbation);
+  PetscCheck(cloth->perturbation_wavelength >= 0, cloth->comm, PETSC_ERR_USER_INPUT, "-cloth_perturbation_wavelength must not be negative, got %g", (double)cloth->perturbation_wavelength);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -239,8 +242,12 @@ PetscErrorCode ClothSetUp(Cloth cloth)
   PetscCallMPI(MPI_Comm_size(cloth->comm, &size));
   PetscCallMPI(MPI_Comm_rank(cloth->comm, &rank));
   PetscCall(ClothModelCreate(cloth->scene, &cloth->model));
-  PetscCall(ClothModelPerturbPositions(cloth->model, cloth->perturbation, cloth->perturbation_seed));
-  if (cloth->perturbation > 0) PetscCall(PetscPrintf(cloth->comm, "Start imperfections: free particles moved along the fabric's normal by up to %g m (seed %" PetscInt_FMT ")\n", (double)cloth->perturbation, cloth->perturbation_seed));
+  PetscCall(ClothModelPerturbPositions(cloth->model, cloth->perturbation, cloth->perturbation_wavelength, cloth->perturbation_seed));
+  if (cloth->perturbation > 0 && cloth->perturbation_wavelength > 0)
+    PetscCall(PetscPrintf(cloth->comm, "Start imperfections: free particles moved along the fabric's normal by up to %g m, a smooth field of wavelengths %g-%g m (seed %" PetscInt_FMT ")\n", (double)cloth->perturbation,
+                          (double)cloth->perturbation_wavelength, (double)(3 * cloth->perturbation_wavelength), cloth->perturbation_seed));
+  else if (cloth->perturbation > 0)
+    PetscCall(PetscPrintf(cloth->comm, "Start imperfections: free particles moved along the fabric's normal by up to %g m (seed %" PetscInt_FMT ")\n", (double)cloth->perturbation, cloth->perturbation_seed));
   cloth->nglobal = cloth->model->nparticles;
   PetscCheck(cloth->nglobal >= size, cloth->comm, PETSC_ERR_ARG_OUTOFRANGE, "%" PetscInt_FMT " particles cannot be shared by %d ranks", cloth->nglobal, size);
   PetscCall(ClothModelGetAdjacency(cloth->model, &cloth->xadj, &cloth->adjncy));

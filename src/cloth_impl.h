@@ -14,6 +14,7 @@ struct _n_Cloth {
   PetscBool          exact_stiffness; /* assemble the exact Hessian instead of its PSD part (tests) */
   PetscReal          perturbation;    /* amplitude, m, of the seeded start imperfections (0: none) */
   PetscInt           perturbation_seed;
+  PetscReal          perturbation_wavelength; /* m: 0 independent per particle, > 0 a smooth field (model.h) */
 
   PetscInt  nglobal, nlocal, nghost, rstart;
   PetscInt *part;              /* natural -> rank */

@@ -403,7 +403,23 @@ static PetscReal HashUniform(PetscInt seed, PetscInt index)
   return 2.0 * (PetscReal)(z >> 11) / 9007199254740992.0 - 1.0; /* 53 bits / 2^53 */
 }
 
-PetscErrorCode ClothModelPerturbPositions(ClothModel model, PetscReal amplitude, PetscInt seed)
+/* The smooth imperfection field at x: the mean of CLOTH_PERTURBATION_MODES waves cos(2 pi d.x / l + phase),
+   d a random unit vector, l in [L, 3L], drawn from (seed, mode) with indices no particle has (negative). */
+static PetscReal SmoothField(PetscInt seed, PetscReal wavelength, const PetscReal x[3])
+{
+  PetscReal sum = 0;
+
+  for (PetscInt m = 0; m < CLOTH_PERTURBATION_MODES; m++) {
+    const PetscReal z = HashUniform(seed, -4 * m - 1), azimuth = PETSC_PI * HashUniform(seed, -4 * m - 2);
+    const PetscReal l = wavelength * (2 + HashUniform(seed, -4 * m - 3)), phase = PETSC_PI * HashUniform(seed, -4 * m - 4);
+    const PetscReal r = PetscSqrtReal(1 - z * z), d[3] = {r * PetscCosReal(azimuth), r * PetscSinReal(azimuth), z};
+
+    sum += PetscCosReal(2 * PETSC_PI * Dot3(d, x) / l + phase);
+  }
+  return sum / CLOTH_PERTURBATION_MODES;
+}
+
+PetscErrorCode ClothModelPerturbPositions(ClothModel model, PetscReal amplitude, PetscReal wavelength, PetscInt seed)
 {
   PetscReal *normal;
 
@@ -422,7 +438,7 @@ PetscErrorCode ClothModelPerturbPositions(ClothModel model, PetscReal amplitude,
   }
   for (PetscInt i = 0; i < model->nparticles; i++) {
     const PetscReal len = PetscSqrtReal(Dot3(&normal[3 * i], &normal[3 * i]));
-    const PetscReal h   = amplitude * HashUniform(seed, i);
+    const PetscReal h   = amplitude * (wavelength > 0 ? SmoothField(seed, wavelength, &model->position[3 * i]) : HashUniform(seed, i));
 
     if (model->pinned[i] || len == 0) continue;
     for (PetscInt d = 0; d < 3; d++) model->position[3 * i + d] += h * normal[3 * i + d] / len;

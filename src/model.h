@@ -29,10 +29,14 @@ struct _n_ClothModel {
 
 PetscErrorCode ClothModelCreate(Scene scene, ClothModel *model);
 /* Adjacency in CSR form (no self loops): j is a neighbour of i when an interaction holds both. */
-/* Displaces every free particle along the fabric's normal there by a uniform random amount in
+/* Displaces every free particle along the fabric's normal there by a random amount within
    [-amplitude, amplitude] (m): the small imperfections of a real specimen, which decide how a
-   symmetric start buckles. The numbers depend only on seed and the particle's natural index, so the
-   start is the same on any number of ranks. Rest lengths and angles are not touched. */
-PetscErrorCode ClothModelPerturbPositions(ClothModel model, PetscReal amplitude, PetscInt seed);
+   symmetric start buckles. wavelength 0: independent and uniform per particle (depending on seed and the
+   particle's natural index); wavelength L > 0: a smooth random field of the start position, the mean of
+   CLOTH_PERTURBATION_MODES plane waves with random directions, phases and wavelengths in [L, 3L], so that
+   the same specimen has the same imperfections at any resolution. Either way the start is the same on any
+   number of ranks. Rest lengths and angles are not touched. */
+#define CLOTH_PERTURBATION_MODES 16
+PetscErrorCode ClothModelPerturbPositions(ClothModel model, PetscReal amplitude, PetscReal wavelength, PetscInt seed);
 PetscErrorCode ClothModelGetAdjacency(ClothModel model, PetscInt **xadj, PetscInt **adjncy);
 PetscErrorCode ClothModelDestroy(ClothModel *model);

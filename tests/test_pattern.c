@@ -12,13 +12,15 @@
       where they are, move free ones only out of the fabric's plane (perpendicular to every link, to
       1e-12 of the amplitude) by at most the amplitude, with the mean and mean square of a uniform
       distribution (0 and 1/3 of the amplitude, squared, within 4 standard errors); the same seed gives the
-      same start, another seed another one.
+      same start, another seed another one. The smooth field (a wavelength given): within the amplitude,
+      no steeper than its shortest wave allows, and the same at the same pattern point at grid n and 2n - 1.
    Prints nothing unless a check fails. */
 #include <petscsys.h>
 #include "fabric.h"
 #include "fabric_presets.h"
 #include "model.h"
 #include "pattern.h"
+#include "vec3.h"
 
 static PetscErrorCode CheckClose(PetscReal value, PetscReal expected, PetscReal rtol, const char what[])
 {
@@ -170,15 +172,15 @@ static PetscErrorCode CheckSceneAreas(const char path[], PetscReal expected_area
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* Displacement of each particle by ClothModelPerturbPositions(amplitude, seed) (3 N values, freed by the caller). */
-static PetscErrorCode PerturbationDisplacement(Scene scene, PetscReal amplitude, PetscInt seed, ClothModel *model, PetscReal **displacement)
+/* Displacement of each particle by ClothModelPerturbPositions(amplitude, wavelength, seed) (3 N values, freed by the caller). */
+static PetscErrorCode PerturbationDisplacement(Scene scene, PetscReal amplitude, PetscReal wavelength, PetscInt seed, ClothModel *model, PetscReal **displacement)
 {
   ClothModel perturbed;
 
   PetscFunctionBeginUser;
   PetscCall(ClothModelCreate(scene, model));
   PetscCall(ClothModelCreate(scene, &perturbed));
-  PetscCall(ClothModelPerturbPositions(perturbed, amplitude, seed));
+  PetscCall(ClothModelPerturbPositions(perturbed, amplitude, wavelength, seed));
   PetscCall(PetscMalloc1(3 * (*model)->nparticles, displacement));
   for (PetscInt k = 0; k < 3 * (*model)->nparticles; k++) (*displacement)[k] = perturbed->position[k] - (*model)->position[k];
   PetscCall(ClothModelDestroy(&perturbed));
@@ -196,7 +198,7 @@ static PetscErrorCode CheckPerturbation(const char path[])
 
   PetscFunctionBeginUser;
   PetscCall(SceneCreateFromFile(PETSC_COMM_WORLD, path, &scene));
-  PetscCall(PerturbationDisplacement(scene, amplitude, 5, &model, &d));
+  PetscCall(PerturbationDisplacement(scene, amplitude, 0, 5, &model, &d));
   for (PetscInt l = 0; l < model->nlinks; l++) { /* out of the plane: perpendicular to every thread segment */
     const PetscInt *p = model->links[l].p;
     PetscReal       e[3], len;
@@ -224,9 +226,9 @@ static PetscErrorCode CheckPerturbation(const char path[])
   PetscCheck(PetscAbsReal(sum / nfree) <= 4 * PetscSqrtReal(1.0 / (3.0 * nfree)), PETSC_COMM_SELF, PETSC_ERR_PLIB, "mean displacement %g of the amplitude, expected 0", (double)(sum / nfree));
   PetscCheck(PetscAbsReal(sum2 / nfree - 1.0 / 3.0) <= 4 * PetscSqrtReal(4.0 / (45.0 * nfree)), PETSC_COMM_SELF, PETSC_ERR_PLIB, "mean square displacement %g of the amplitude squared, expected 1/3", (double)(sum2 / nfree));
   PetscCall(ClothModelDestroy(&model));
-  PetscCall(PerturbationDisplacement(scene, amplitude, 5, &model, &same));
+  PetscCall(PerturbationDisplacement(scene, amplitude, 0, 5, &model, &same));
   PetscCall(ClothModelDestroy(&model));
-  PetscCall(PerturbationDisplacement(scene, amplitude, 6, &model, &other));
+  PetscCall(PerturbationDisplacement(scene, amplitude, 0, 6, &model, &other));
   for (PetscInt k = 0; k < 3 * model->nparticles; k++) {
     PetscCheck(same[k] == d[k], PETSC_COMM_SELF, PETSC_ERR_PLIB, "seed 5 gave two different starts");
     differ += PetscAbsReal(other[k] - d[k]) > 0;
@@ -235,6 +237,66 @@ static PetscErrorCode CheckPerturbation(const char path[])
   PetscCall(PetscFree(d));
   PetscCall(PetscFree(same));
   PetscCall(PetscFree(other));
+  PetscCall(ClothModelDestroy(&model));
+  PetscCall(SceneDestroy(&scene));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The smooth imperfection field (-cloth_perturbation_wavelength L): within the amplitude, pinned particles
+   unmoved, no steeper than its shortest wave allows (|w(x1) - w(x0)| <= 2 pi A |x1 - x0| / L along every link),
+   not zero, and, on a scene of one piece, the same at the same point of the pattern at grid n and 2n - 1
+   (whose every other node is the coarser grid's node). */
+static PetscErrorCode CheckSmoothPerturbation(const char path[])
+{
+  const PetscReal amplitude = 1e-3, wavelength = 0.02;
+  Scene           scene;
+  ClothModel      model, fine;
+  PetscReal      *d, *df, largest = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(SceneCreateFromFile(PETSC_COMM_WORLD, path, &scene));
+  PetscCall(PerturbationDisplacement(scene, amplitude, wavelength, 3, &model, &d));
+  for (PetscInt l = 0; l < model->nlinks; l++) {
+    const PetscInt *p = model->links[l].p;
+    PetscReal       e[3], dd[3];
+
+    for (PetscInt c = 0; c < 3; c++) {
+      e[c]  = model->position[3 * p[1] + c] - model->position[3 * p[0] + c];
+      dd[c] = d[3 * p[1] + c] - d[3 * p[0] + c];
+    }
+    if (model->pinned[p[0]] || model->pinned[p[1]]) continue;
+    PetscCheck(PetscSqrtReal(Dot3(dd, dd)) <= 2 * PETSC_PI * amplitude * PetscSqrtReal(Dot3(e, e)) / wavelength * (1 + 1e-9), PETSC_COMM_SELF, PETSC_ERR_PLIB, "smooth imperfections: particles %" PetscInt_FMT " and %" PetscInt_FMT " differ by %g m over %g m, steeper than wavelength %g m allows",
+               p[0], p[1], (double)PetscSqrtReal(Dot3(dd, dd)), (double)PetscSqrtReal(Dot3(e, e)), (double)wavelength);
+  }
+  for (PetscInt i = 0; i < model->nparticles; i++) {
+    const PetscReal h = PetscSqrtReal(Dot3(&d[3 * i], &d[3 * i]));
+
+    PetscCheck(!model->pinned[i] || h == 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "smooth imperfections moved pinned particle %" PetscInt_FMT, i);
+    PetscCheck(h <= amplitude * (1 + 1e-12), PETSC_COMM_SELF, PETSC_ERR_PLIB, "smooth imperfections moved particle %" PetscInt_FMT " by %g m, more than the amplitude", i, (double)h);
+    largest = PetscMax(largest, h);
+  }
+  PetscCheck(largest > 0.1 * amplitude, PETSC_COMM_SELF, PETSC_ERR_PLIB, "smooth imperfections: largest displacement %g m, expected above a tenth of the amplitude %g m", (double)largest, (double)amplitude);
+  if (scene->single_grid && scene->pieces[0].nu == scene->pieces[0].nv) {
+    const PetscInt n = scene->pieces[0].nu;
+
+    PetscCall(ClothModelDestroy(&model));
+    PetscCall(PetscFree(d));
+    PetscCall(SceneSetGridSize(scene, n));
+    PetscCall(PerturbationDisplacement(scene, amplitude, wavelength, 3, &model, &d));
+    PetscCall(SceneSetGridSize(scene, 2 * n - 1));
+    PetscCall(PerturbationDisplacement(scene, amplitude, wavelength, 3, &fine, &df));
+    for (PetscInt j = 0; j < n; j++)
+      for (PetscInt i = 0; i < n; i++) {
+        const PetscInt coarse = j * n + i, same = 2 * j * (2 * n - 1) + 2 * i;
+
+        for (PetscInt c = 0; c < 3; c++)
+          PetscCheck(PetscAbsReal(d[3 * coarse + c] - df[3 * same + c]) <= 1e-9 * amplitude, PETSC_COMM_SELF, PETSC_ERR_PLIB, "smooth imperfections: node (%" PetscInt_FMT ", %" PetscInt_FMT ") of grid %" PetscInt_FMT " moved %g m, the same node of grid %" PetscInt_FMT " %g m", i, j, n, (double)d[3 * coarse + c], 2 * n - 1,
+                     (double)df[3 * same + c]);
+      }
+    PetscCall(ClothModelDestroy(&fine));
+    PetscCall(PetscFree(df));
+  }
+  PetscCall(PetscFree(d));
   PetscCall(ClothModelDestroy(&model));
   PetscCall(SceneDestroy(&scene));
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -256,6 +318,7 @@ int main(int argc, char **argv)
   PetscCall(PetscOptionsGetReal(NULL, NULL, "-area_rtol", &rtol, NULL));
   if (has_scene) PetscCall(CheckSceneAreas(path, area, rtol));
   if (has_scene) PetscCall(CheckPerturbation(path));
+  if (has_scene) PetscCall(CheckSmoothPerturbation(path));
   PetscCall(PetscFinalize());
   return 0;
 }
