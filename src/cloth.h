@@ -54,8 +54,9 @@ typedef enum {
   CLOTH_SLIDERS_BEND, /* checkpoint field bend_slider: 4 per particle, cos and sin of the slider angle of the warp chain centred on it, then of the weft chain */
   CLOTH_SLIDERS_SHEAR /* checkpoint field shear_slider: 2 per particle, cos and sin of the slider angle of the cell whose first corner (i, j) it is */
 } ClothSliderFamily;
-/* One family of sliders as a checkpoint field (natural order; 0 where there is none). Create gives NULL when
-   the fabric has no friction elements of that family. Collective. */
+#define CLOTH_SLIDER_FAMILIES 2
+/* One family of sliders as a checkpoint field (natural order; 0 where there is none), named as its dataset.
+   Create gives NULL when the fabric has no friction elements of that family. Collective. */
 PetscErrorCode ClothHysteresisCreateStateVec(Cloth cloth, ClothSliderFamily family, Vec *state);
 PetscErrorCode ClothHysteresisGetState(Cloth cloth, ClothSliderFamily family, Vec state);
 PetscErrorCode ClothHysteresisSetState(Cloth cloth, ClothSliderFamily family, Vec state);

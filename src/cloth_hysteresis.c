@@ -103,8 +103,10 @@ PetscErrorCode ClothHysteresisSetState(Cloth cloth, ClothSliderFamily family, Ve
   VecScatter         to_all;
   Vec                all;
   const PetscScalar *s;
+  const char        *name;
 
   PetscFunctionBeginUser;
+  PetscCall(PetscObjectGetName((PetscObject)state, &name));
   PetscCall(VecScatterCreateToAll(state, &to_all, &all));
   PetscCall(VecScatterBegin(to_all, state, all, INSERT_VALUES, SCATTER_FORWARD));
   PetscCall(VecScatterEnd(to_all, state, all, INSERT_VALUES, SCATTER_FORWARD));
@@ -118,7 +120,7 @@ PetscErrorCode ClothHysteresisSetState(Cloth cloth, ClothSliderFamily family, Ve
     row = SliderIndex(cloth, angle);
     c   = PetscRealPart(s[row]);
     sn  = PetscRealPart(s[row + 1]);
-    PetscCheck(PetscAbsReal(c * c + sn * sn - 1) < 1e-12, PETSC_COMM_SELF, PETSC_ERR_FILE_UNEXPECTED, "Checkpoint %s: particle %" PetscInt_FMT " has no slider angle (cos %g, sin %g)", family == CLOTH_SLIDERS_BEND ? "bend_slider" : "shear_slider", SliderIndex(cloth, angle) / SliderBlockSize(family), (double)c,
+    PetscCheck(PetscAbsReal(c * c + sn * sn - 1) < 1e-12, PETSC_COMM_SELF, PETSC_ERR_FILE_UNEXPECTED, "Checkpoint %s: particle %" PetscInt_FMT " has no slider angle (cos %g, sin %g)", name, SliderIndex(cloth, angle) / SliderBlockSize(family), (double)c,
                (double)sn);
     angle->cos0 = c;
     angle->sin0 = sn;

@@ -28,7 +28,6 @@ struct _n_ClothModel {
 };
 
 PetscErrorCode ClothModelCreate(Scene scene, ClothModel *model);
-/* Adjacency in CSR form (no self loops): j is a neighbour of i when an interaction holds both. */
 /* Displaces every free particle along the fabric's normal there by a random amount within
    [-amplitude, amplitude] (m): the small imperfections of a real specimen, which decide how a
    symmetric start buckles. wavelength 0: independent and uniform per particle (depending on seed and the
@@ -38,5 +37,6 @@ PetscErrorCode ClothModelCreate(Scene scene, ClothModel *model);
    number of ranks. Rest lengths and angles are not touched. */
 #define CLOTH_PERTURBATION_MODES 16
 PetscErrorCode ClothModelPerturbPositions(ClothModel model, PetscReal amplitude, PetscReal wavelength, PetscInt seed);
+/* Adjacency in CSR form (no self loops): j is a neighbour of i when an interaction holds both. */
 PetscErrorCode ClothModelGetAdjacency(ClothModel model, PetscInt **xadj, PetscInt **adjncy);
 PetscErrorCode ClothModelDestroy(ClothModel *model);

@@ -37,7 +37,7 @@ struct _n_ClothRun {
   Vec      natural_strain;                                 /* one value per particle, for frames */
   Vec      natural_body_contact, natural_self_contact;     /* contact fields of frames (output.h); zero when off */
   Vec      natural_sewn;                                   /* sewn seams per particle (sewing.h), checkpoints */
-  Vec      natural_slider[2];                              /* hysteresis sliders by ClothSliderFamily (cloth.h), checkpoints; NULL without */
+  Vec      natural_slider[CLOTH_SLIDER_FAMILIES];          /* hysteresis sliders by ClothSliderFamily (cloth.h), checkpoints; NULL without */
   char     last_checkpoint[CLOTH_PATH_LEN];
   PetscInt krylov_total, substeps_total;
 };
@@ -164,8 +164,13 @@ static PetscErrorCode ClothRunCheckpointFields(ClothRun run, PetscBool with_dv, 
   if (with_dv) fields[n++] = (ClothCheckpointField){"implicit_dv", run->natural_dv, PETSC_FALSE, PETSC_FALSE};
   if (run->natural_contact) fields[n++] = (ClothCheckpointField){"contact_normal", run->natural_contact, PETSC_FALSE, PETSC_FALSE};
   if (run->natural_sewn) fields[n++] = (ClothCheckpointField){"seams_sewn", run->natural_sewn, PETSC_TRUE, PETSC_FALSE};
-  for (PetscInt f = 0; f < 2; f++)
-    if (run->natural_slider[f]) fields[n++] = (ClothCheckpointField){f == CLOTH_SLIDERS_BEND ? "bend_slider" : "shear_slider", run->natural_slider[f], PETSC_TRUE, PETSC_FALSE};
+  for (PetscInt f = 0; f < CLOTH_SLIDER_FAMILIES; f++) {
+    const char *name;
+
+    if (!run->natural_slider[f]) continue;
+    PetscCall(PetscObjectGetName((PetscObject)run->natural_slider[f], &name));
+    fields[n++] = (ClothCheckpointField){name, run->natural_slider[f], PETSC_TRUE, PETSC_FALSE};
+  }
   *nfields = n;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -224,7 +229,7 @@ static PetscErrorCode ClothRunRestore(ClothRun run)
   run->step = (PetscInt)info.step;
   run->time = info.time;
   if (run->sewing) PetscCall(ClothSewingSetStateVec(run->sewing, run->natural_sewn, run->time));
-  for (PetscInt f = 0; f < 2; f++)
+  for (PetscInt f = 0; f < CLOTH_SLIDER_FAMILIES; f++)
     if (run->natural_slider[f]) PetscCall(ClothHysteresisSetState(run->cloth, (ClothSliderFamily)f, run->natural_slider[f]));
   PetscCall(ClothRunAdoptCheckpointSettings(run, &info));
   PetscCall(PetscPrintf(run->comm, "Restarting from %s: step %" PetscInt_FMT ", t = %.6f s, dt = %g s (written by integrator %s, %s)\n", run->restart, run->step, (double)run->time, (double)info.dt, info.integrator,
@@ -317,7 +322,7 @@ PetscErrorCode ClothRunSetUp(ClothRun run)
     if (run->self_contact) PetscCall(ClothSelfContactSetExclusion(run->self_contact, ClothSewingExcludeContact, run->sewing));
     PetscCall(VecDuplicate(run->natural_strain, &run->natural_sewn)); /* one value per particle */
   }
-  for (PetscInt f = 0; f < 2; f++) PetscCall(ClothHysteresisCreateStateVec(run->cloth, (ClothSliderFamily)f, &run->natural_slider[f]));
+  for (PetscInt f = 0; f < CLOTH_SLIDER_FAMILIES; f++) PetscCall(ClothHysteresisCreateStateVec(run->cloth, (ClothSliderFamily)f, &run->natural_slider[f]));
   PetscCall(PetscObjectSetName((PetscObject)run->natural_position, "position"));
   PetscCall(PetscObjectSetName((PetscObject)run->natural_velocity, "velocity"));
   if (run->restart[0]) PetscCall(ClothRunRestore(run));
@@ -399,7 +404,7 @@ static PetscErrorCode ClothRunWriteCheckpoint(ClothRun run)
     PetscCall(ClothScatterToNatural(run->cloth, normals, run->natural_contact, SCATTER_FORWARD));
   }
   if (run->sewing) PetscCall(ClothSewingGetStateVec(run->sewing, run->natural_sewn));
-  for (PetscInt f = 0; f < 2; f++)
+  for (PetscInt f = 0; f < CLOTH_SLIDER_FAMILIES; f++)
     if (run->natural_slider[f]) PetscCall(ClothHysteresisGetState(run->cloth, (ClothSliderFamily)f, run->natural_slider[f]));
   PetscCall(ClothRunCheckpointFields(run, dv ? PETSC_TRUE : PETSC_FALSE, fields, &nfields));
   PetscCall(ClothRunFillCheckpointInfo(run, &info));
