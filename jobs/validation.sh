@@ -13,10 +13,15 @@
 #       VALIDATION_PERTURBATION m, default 0.0001: -cloth_perturbation; the table gives each trial and their mean;
 #       VALIDATION_PERTURBATION_WAVELENGTH L m makes them a smooth field of wavelengths L-3L, the same at every grid)
 #   VALIDATION_PUBLISHED="m1 m4" ... (only those of the published fabrics: petrak_m1_*, petrak_m4_*)
+#   VALIDATION_SOLVER=mumps ... (the drape runs factor with MUMPS's Cholesky, SBAIJ matrix, instead of PETSc's own:
+#       4 times faster at 81 nodes with OpenBLAS, which scripts/install_deps.sh installs; the same solution to
+#       rounding, which the release's choice of folds can amplify: docs/validation.md, section 5.2)
 #
 # Also a Slurm batch script: sbatch --ntasks=1 --time=02:00:00 jobs/validation.sh
 # Runs one rank per run with a direct Cholesky solve (-pc_type cholesky): the stiff tensile links against
 # the soft bending make CG with point-block Jacobi take ~1000 iterations per step on these small problems.
+# PETSc's own Cholesky (the default, which made the tables of docs/validation.md) factors in natural order;
+# MUMPS (VALIDATION_SOLVER=mumps) orders for fill and uses BLAS 3, which the finer grids need.
 #SBATCH --job-name=clothsim-validation
 #SBATCH --ntasks=1
 set -eu
@@ -55,15 +60,22 @@ jobs=${VALIDATION_JOBS:-1}
 # Time step of the drape runs: dt 0.01 s gives the same drape as 0.005 s (docs/validation.md, section 5);
 # 0.02 s damps the release enough to select another fold count for some fabrics.
 dt=0.01
+case ${VALIDATION_SOLVER:-petsc} in
+  petsc) solver=(-pc_type cholesky) ;;
+  mumps) solver=(-pc_type cholesky -implicit_mat_type sbaij -pc_factor_mat_solver_type mumps) ;;
+  *) echo "VALIDATION_SOLVER must be petsc or mumps, not '$VALIDATION_SOLVER'" >&2; exit 1 ;;
+esac
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
 mkdir -p "$out"
 [[ -x $clothsim ]] || { echo "no clothsim binary in $build (build first: cmake -S . -B $build && cmake --build $build)" >&2; exit 1; }
 
+# --bind-to none: each mpiexec binds its one rank to core 0 otherwise, and VALIDATION_JOBS=2 runs then share one
+# core (measured: 0.46 s a step at 81 nodes instead of 0.22)
 run() { # run NAME ARGS...: one clothsim run, its log in $out/NAME.log
   local name=$1
   shift
   echo "run $name"
-  mpiexec -n 1 "$clothsim" "$@" -output_every 0 -pc_type cholesky -progress_seconds 600 > "$out/$name.log" 2>&1 || { tail -20 "$out/$name.log"; exit 1; }
+  mpiexec -n 1 --bind-to none "$clothsim" "$@" -output_every 0 "${solver[@]}" -progress_seconds 600 > "$out/$name.log" 2>&1 || { tail -20 "$out/$name.log"; exit 1; }
 }
 
 # 1. Cantilever: 7 overhangs 1.6-5 cm per fabric and direction, 30 segments along the overhang
@@ -158,7 +170,15 @@ for pair in published:
     cells = [f"{r['drape_coefficient']:.3f} ({r['folds']}), {r['drape_coefficient'] - float(measured):+.3f}" for r in runs]
     print(f"| {fabric} | {float(measured):.3f} | " + " | ".join(cells) + " |")
 PY
-# 4. Picture: the published fabrics' shadows at the finer grid (docs/img/cusick_petrak.png)
+# 4. Pictures: with trials at more than one grid, the drape coefficient against the grid (the trials and their
+#    mean, docs/img/cusick_convergence.png; its table goes into summary.md too); the published fabrics' shadows at
+#    the finest grid (docs/img/cusick_petrak.png)
+if (( ${#trials[@]} > 0 && ${#grids[@]} > 1 )); then
+  measured_args=()
+  for pair in "${published[@]}"; do measured_args+=(--measured "$pair"); done
+  { echo; echo "Drape coefficient against the grid (postprocess/cusick_convergence.py):"; echo
+    $py postprocess/cusick_convergence.py "${measured_args[@]}" --out "$out/cusick_convergence.png" "$out"; } >> "$out/summary.md"
+fi
 panels=()
 for pair in "${published[@]}"; do
   preset=${pair%%=*}
