@@ -10,3 +10,6 @@ set_tests_properties(postprocess_contacts PROPERTIES TIMEOUT 120 PROCESSORS 2)
 
 # The performance benchmark's driver and report (jobs/bench.sh, jobs/bench_report.py, build/stream_triad) on a small sheet.
 clothsim_add_script_test(bench_driver check_bench.sh ${CMAKE_CURRENT_BINARY_DIR}/bench_driver)
+
+# postprocess/cusick_convergence.py (drape coefficient against grid, jobs/validation.sh) on hand-made trial files.
+clothsim_add_script_test(postprocess_cusick_convergence check_cusick_convergence.sh ${CMAKE_CURRENT_BINARY_DIR}/postprocess_cusick_convergence)
