@@ -1,18 +1,21 @@
 #!/bin/bash
 # Cusick drape against published measurements: runs input/cusick_drape.yaml for each preset given at one grid
 # size and time step, started with the seeded imperfections of -cloth_perturbation AMPLITUDE (m; 0: a flat
-# start) -cloth_perturbation_seed SEED, and checks with postprocess/cusick_drape.py that the simulated drape
-# coefficient is within TOL of the measured one given with it (docs/validation.md, section 5).
+# start) -cloth_perturbation_wavelength WAVELENGTH (m; 0: white noise) -cloth_perturbation_seed SEED, and checks
+# with postprocess/cusick_drape.py that the simulated drape coefficient is within TOL of the measured one given
+# with it (docs/validation.md, section 5). The direct solve is MUMPS's Cholesky, as in jobs/validation.sh with
+# VALIDATION_SOLVER=mumps.
 #
-#   validation_cusick_published.sh GRID DT TOL AMPLITUDE SEED PRESET=DC_MEASURED...
+#   validation_cusick_published.sh GRID DT TOL AMPLITUDE WAVELENGTH SEED PRESET=DC_MEASURED...
 set -eu
 : "${CLOTHSIM:?set CLOTHSIM to the clothsim binary}"
 grid=$1
 dt=$2
 tol=$3
 amplitude=$4
-seed=$5
-shift 5
+wavelength=$5
+seed=$6
+shift 6
 out=${CLOTHSIM_BUILD:-build}/test-output/cusick_published
 mkdir -p "$out"
 py=/usr/bin/python3
@@ -22,8 +25,9 @@ for pair in "$@"; do
   measured=${pair#*=}
   sed "s/preset: cotton_polyester .*/preset: $preset/" input/cusick_drape.yaml > "$out/cusick_$preset.yaml"
   dir="$out/${preset}_$grid"
-  mpiexec -n 1 "$CLOTHSIM" -scene "$out/cusick_$preset.yaml" -grid "$grid" -dt "$dt" -t_final 4 -output_every 0 -output_dir "$dir" -pc_type cholesky -progress_seconds 100 \
-    -cloth_perturbation "$amplitude" -cloth_perturbation_seed "$seed" > "$dir.log" 2>&1 || { tail -20 "$dir.log"; exit 1; }
+  mpiexec -n 1 "$CLOTHSIM" -scene "$out/cusick_$preset.yaml" -grid "$grid" -dt "$dt" -t_final 4 -output_every 0 -output_dir "$dir" -progress_seconds 100 \
+    -pc_type cholesky -implicit_mat_type sbaij -pc_factor_mat_solver_type mumps \
+    -cloth_perturbation "$amplitude" -cloth_perturbation_wavelength "$wavelength" -cloth_perturbation_seed "$seed" > "$dir.log" 2>&1 || { tail -20 "$dir.log"; exit 1; }
   $py postprocess/cusick_drape.py "$(ls "$dir"/checkpoint_*.h5 | tail -1)" --scene "$out/cusick_$preset.yaml" --grid "$grid" --json > "$dir.json"
   $py - "$dir.json" "$measured" "$tol" "$preset" <<'PY' || status=1
 import json, sys
