@@ -12,7 +12,8 @@
 #       (only the six published fabrics, one run per trial, each started with its own seeded imperfections of
 #       VALIDATION_PERTURBATION m, default 0.0001: -cloth_perturbation; the table gives each trial and their mean;
 #       VALIDATION_PERTURBATION_WAVELENGTH L m makes them a smooth field of wavelengths L-3L, the same at every grid)
-#   VALIDATION_PUBLISHED="m1 m4" ... (only those of the published fabrics: petrak_m1_*, petrak_m4_*)
+#   VALIDATION_PUBLISHED="m1 m4" ... (only those of the published fabrics: petrak_m1_*, petrak_m4_*; none: none)
+#   VALIDATION_TRIAL_PRESETS="cotton_knit denim" ... (with VALIDATION_TRIALS: these presets run as trials too)
 #   VALIDATION_SOLVER=mumps ... (the drape runs factor with MUMPS's Cholesky, SBAIJ matrix, instead of PETSc's own:
 #       4 times faster at 81 nodes with OpenBLAS, which scripts/install_deps.sh installs; the same solution to
 #       rounding, which the release's choice of folds can amplify: docs/validation.md, section 5.2)
@@ -55,6 +56,12 @@ if [[ -n ${VALIDATION_PUBLISHED:-} ]]; then
   published=("${selected[@]}")
 fi
 (( ${#trials[@]} == 0 )) || presets=()
+# Presets (no measured drape coefficient) to run as trials too, beside the published fabrics (measured "-");
+# VALIDATION_PUBLISHED=none leaves the published fabrics out.
+for preset in ${VALIDATION_TRIAL_PRESETS:-}; do
+  (( ${#trials[@]} > 0 )) || { echo "VALIDATION_TRIAL_PRESETS needs VALIDATION_TRIALS" >&2; exit 1; }
+  published+=("$preset=-")
+done
 # Drape runs at once (one rank each); VALIDATION_JOBS=2 uses both cores of a 2-core machine.
 jobs=${VALIDATION_JOBS:-1}
 # Time step of the drape runs: dt 0.01 s gives the same drape as 0.005 s (docs/validation.md, section 5);
@@ -157,7 +164,9 @@ if trials:
             dcs = [r["drape_coefficient"] for r in runs]
             sd = statistics.stdev(dcs) if len(dcs) > 1 else 0.0
             cells = [f"{r['drape_coefficient']:.3f} ({r['folds']})" for r in runs]
-            print(f"| {fabric} | {float(measured):.3f} | " + " | ".join(cells) + f" | {statistics.mean(dcs):.3f} | {sd:.3f} | {statistics.mean(dcs) - float(measured):+.3f} |")
+            known = measured != "-"
+            shown, error = (f"{float(measured):.3f}", f"{statistics.mean(dcs) - float(measured):+.3f}") if known else ("-", "-")
+            print(f"| {fabric} | {shown} | " + " | ".join(cells) + f" | {statistics.mean(dcs):.3f} | {sd:.3f} | {error} |")
         print()
     sys.exit(0)
 print(f"Published drape coefficients (dt {dt} s{hysteresis}): simulated against measured, error = simulated - measured")
@@ -173,7 +182,7 @@ PY
 # 4. Pictures: with trials at more than one grid, the drape coefficient against the grid (the trials and their
 #    mean, docs/img/cusick_convergence.png; its table goes into summary.md too); the published fabrics' shadows at
 #    the finest grid (docs/img/cusick_petrak.png)
-if (( ${#trials[@]} > 0 && ${#grids[@]} > 1 )); then
+if (( ${#trials[@]} > 0 && ${#grids[@]} > 1 && ${#published[@]} > 0 )); then
   measured_args=()
   for pair in "${published[@]}"; do measured_args+=(--measured "$pair"); done
   { echo; echo "Drape coefficient against the grid (postprocess/cusick_convergence.py):"; echo
@@ -186,6 +195,6 @@ for pair in "${published[@]}"; do
   name=cusick_${preset}_$n${trials:+_t${trials[0]}}
   panels+=(--run "${preset#petrak_}, $n nodes${trials:+, trial ${trials[0]}}" "$(ls "$out/$name"/checkpoint_*.h5 | tail -1)" "$out/cusick_$preset.yaml" "$n" "${pair#*=}")
 done
-$py postprocess/cusick_shadows.py --out "$out/cusick_petrak.png" "${panels[@]}"
+(( ${#panels[@]} == 0 )) || $py postprocess/cusick_shadows.py --out "$out/cusick_petrak.png" "${panels[@]}"
 [[ ! -f $out/cantilever.txt ]] || cat "$out/cantilever.txt"
 cat "$out/summary.md"

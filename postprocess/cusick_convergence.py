@@ -7,7 +7,7 @@ target band. Prints the same numbers as a Markdown table.
         --measured petrak_m1_polyester_twill=0.223 [--measured ...] OUT_DIR [OUT_DIR ...]
 
 Reads OUT_DIR/cusick_PRESET_N_tK.json (written by jobs/validation.sh with VALIDATION_TRIALS) for the presets
-given with --measured; runs of one fabric may be spread over several directories (one per grid, say), but a
+given with --measured (PRESET=- for a fabric without a measured value); runs of one fabric may be spread over several directories (one per grid, say), but a
 (fabric, grid, trial) found twice is an error, so that no run is counted twice.
 """
 import argparse
@@ -52,7 +52,9 @@ def table(runs, measured):
             cells = ", ".join(f"{trials[t]['drape_coefficient']:.3f} ({trials[t]['folds']})" for t in sorted(trials))
             sd = statistics.stdev(dcs) if len(dcs) > 1 else 0.0
             mean = statistics.mean(dcs)
-            lines.append(f"| {preset} ({measured[preset]:.3f}) | {grid} | {300 / (grid - 1):.2f} | {cells} | {mean:.3f} | {sd:.3f} | {mean - measured[preset]:+.3f} |")
+            m = measured[preset]
+            shown, error = (f"{m:.3f}", f"{mean - m:+.3f}") if m is not None else ("-", "-")
+            lines.append(f"| {preset} ({shown}) | {grid} | {300 / (grid - 1):.2f} | {cells} | {mean:.3f} | {sd:.3f} | {error} |")
     return "\n".join(lines)
 
 
@@ -66,8 +68,9 @@ def plot(runs, measured, out):
         means = [statistics.mean(r["drape_coefficient"] for r in per_grid[g].values()) for g in grids]
         ax.plot(grids, means, "-s", color="tab:blue", label="simulated: trials (grey), mean")
         m = measured[preset]
-        ax.axhline(m, color="tab:red", label=f"measured {m:.3f}")
-        ax.axhspan(m - 0.10, m + 0.10, color="tab:red", alpha=0.08, label="target +-0.10")
+        if m is not None:
+            ax.axhline(m, color="tab:red", label=f"measured {m:.3f}")
+            ax.axhspan(m - 0.10, m + 0.10, color="tab:red", alpha=0.08, label="target +-0.10")
         ax.set_xlabel("nodes per boundary (30 cm disc)")
         ax.set_ylabel("drape coefficient")
         ax.set_title(preset.replace("petrak_", ""), fontsize=10)
@@ -82,14 +85,14 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("directories", nargs="+", help="output directories of jobs/validation.sh trial runs")
     parser.add_argument("--measured", action="append", required=True, metavar="PRESET=DC",
-                        help="a fabric to show and its measured drape coefficient (repeat for more)")
+                        help="a fabric to show and its measured drape coefficient, - if none (repeat for more)")
     parser.add_argument("--out", help="PNG to write (default: only the table)")
     args = parser.parse_args()
     measured = {}
     for pair in args.measured:
         preset, _, value = pair.partition("=")
         try:
-            measured[preset] = float(value)
+            measured[preset] = None if value == "-" else float(value)
         except ValueError:
             sys.exit(f"cusick_convergence: --measured wants PRESET=DC, got '{pair}'")
     runs = collect(args.directories, list(measured))

@@ -22,6 +22,8 @@ cat "$work/table.md"
 grep -qF "| fab (0.250) | 49 | 6.25 | 0.300 (8), 0.260 (9), 0.280 (9) | 0.280 | 0.020 | +0.030 |" "$work/table.md" || fail "grid 49 row"
 grep -qF "| fab (0.250) | 97 | 3.12 | 0.210 (10), 0.230 (11) | 0.220 | 0.014 | -0.030 |" "$work/table.md" || fail "grid 97 row"
 ! grep -q other "$work/table.md" || fail "a fabric not asked for is in the table"
+$py "$tool" --measured other=- "$work/b" > "$work/unmeasured.md"   # a fabric without a measured value
+grep -qF "| other (-) | 97 | 3.12 | 0.500 (6) | 0.500 | 0.000 | - |" "$work/unmeasured.md" || fail "row of a fabric without a measured value"
 [ "$(head -c 4 "$work/c.png" | tail -c 3)" = PNG ] || fail "no PNG written"
 put a fab 97 2 0.22 11
 if $py "$tool" --measured fab=0.25 "$work/a" "$work/b" > "$work/dup.log" 2>&1; then fail "a run found twice was accepted"; fi
