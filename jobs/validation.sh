@@ -154,20 +154,7 @@ if trials:
     print(f"Published drape coefficients (dt {dt} s{hysteresis}), one trial per seed of the start imperfections "
           f"(-cloth_perturbation {perturbation:g} m" + (f", a smooth field of wavelengths {wavelength:g}-{3 * wavelength:g} m" if wavelength > 0 else "") +
           "): simulated against measured, error = mean - measured")
-    print()
-    for n in grids:
-        print(f"| fabric | measured DC | " + " | ".join(f"trial {t}: DC (folds)" for t in trials) + f" | mean, {n} nodes | sd | error |")
-        print("|---|---|" + "---|" * (len(trials) + 3))
-        for pair in published:
-            fabric, measured = pair.split("=")
-            runs = [json.load(open(os.path.join(out, f"cusick_{fabric}_{n}_t{t}.json"))) for t in trials]
-            dcs = [r["drape_coefficient"] for r in runs]
-            sd = statistics.stdev(dcs) if len(dcs) > 1 else 0.0
-            cells = [f"{r['drape_coefficient']:.3f} ({r['folds']})" for r in runs]
-            known = measured != "-"
-            shown, error = (f"{float(measured):.3f}", f"{statistics.mean(dcs) - float(measured):+.3f}") if known else ("-", "-")
-            print(f"| {fabric} | {shown} | " + " | ".join(cells) + f" | {statistics.mean(dcs):.3f} | {sd:.3f} | {error} |")
-        print()
+    print()  # the table itself: postprocess/cusick_convergence.py, below
     sys.exit(0)
 print(f"Published drape coefficients (dt {dt} s{hysteresis}): simulated against measured, error = simulated - measured")
 print()
@@ -179,14 +166,14 @@ for pair in published:
     cells = [f"{r['drape_coefficient']:.3f} ({r['folds']}), {r['drape_coefficient'] - float(measured):+.3f}" for r in runs]
     print(f"| {fabric} | {float(measured):.3f} | " + " | ".join(cells) + " |")
 PY
-# 4. Pictures: with trials at more than one grid, the drape coefficient against the grid (the trials and their
-#    mean, docs/img/cusick_convergence.png; its table goes into summary.md too); the published fabrics' shadows at
+# 4. With trials, their table (every trial, mean, sd, error, per grid) into summary.md and, at more than one grid,
+#    the drape coefficient against the grid (docs/img/cusick_convergence.png); the published fabrics' shadows at
 #    the finest grid (docs/img/cusick_petrak.png)
-if (( ${#trials[@]} > 0 && ${#grids[@]} > 1 && ${#published[@]} > 0 )); then
-  measured_args=()
-  for pair in "${published[@]}"; do measured_args+=(--measured "$pair"); done
-  { echo; echo "Drape coefficient against the grid (postprocess/cusick_convergence.py):"; echo
-    $py postprocess/cusick_convergence.py "${measured_args[@]}" --out "$out/cusick_convergence.png" "$out"; } >> "$out/summary.md"
+if (( ${#trials[@]} > 0 && ${#published[@]} > 0 )); then
+  convergence=()
+  for pair in "${published[@]}"; do convergence+=(--measured "$pair"); done
+  (( ${#grids[@]} == 1 )) || convergence+=(--out "$out/cusick_convergence.png")
+  $py postprocess/cusick_convergence.py "${convergence[@]}" "$out" >> "$out/summary.md"
 fi
 panels=()
 for pair in "${published[@]}"; do
