@@ -191,12 +191,13 @@ def main():
         json.dump(results, sys.stdout, indent=1)
         print()
     else:
-        print(f"{'fabric':18s} {'dir':5s} {'c=(B/W)^1/3':>12s} {'l* (41.5deg)':>13s} {'c=0.5093 l*':>12s} {'error':>7s}")
+        width = max([18] + [len(r["fabric"]) for r in results])
+        print(f"{'fabric':{width}s} {'dir':5s} {'c=(B/W)^1/3':>12s} {'l* (41.5deg)':>13s} {'c=0.5093 l*':>12s} {'error':>7s}")
         for r in results:
             sim = f"{r['c_sim_cm']:.3f} cm" if r["c_sim_cm"] else "not bracketed"
             lst = f"{r['overhang_cm']:.3f} cm" if r["overhang_cm"] else "-"
             err = f"{100 * r['error']:+.1f}%" if r["error"] is not None else "-"
-            print(f"{r['fabric']:18s} {r['direction']:5s} {r['c_theory_cm']:9.3f} cm {lst:>13s} {sim:>12s} {err:>7s}")
+            print(f"{r['fabric']:{width}s} {r['direction']:5s} {r['c_theory_cm']:9.3f} cm {lst:>13s} {sim:>12s} {err:>7s}")
             print("    (overhang cm, tip angle deg): " + ", ".join(f"({l}, {t})" for l, t in r["angles"]))
     if args.check and not ok:
         print(f"FAILED: a bending length differs from (B/W)^(1/3) by more than {100 * args.tolerance:.0f}% or 41.5 deg was not bracketed", file=sys.stderr)

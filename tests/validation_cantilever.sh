@@ -8,7 +8,7 @@ set -eu
 out=${CLOTHSIM_BUILD:-build}/test-output/cantilever_ci
 mkdir -p "$out"
 py=/usr/bin/python3
-$py postprocess/cantilever.py scene --presets "$@" --count 5 --lmin 0.016 --lmax 0.05 --segments 16 -o "$out/cantilever.yaml"
+$py postprocess/cantilever.py scene --presets "$@" --count 6 --lmin 0.012 --lmax 0.05 --segments 16 -o "$out/cantilever.yaml"
 # one rank with a direct (Cholesky) factorisation: the strips are small, and the stiff tensile links
 # against the soft bending make CG + point-block Jacobi need ~1000 iterations per step
 mpiexec -n 1 "$CLOTHSIM" -scene "$out/cantilever.yaml" -output_dir "$out" -output_every 0 -pc_type cholesky -progress_seconds 100 > "$out/run.log" 2>&1 || { tail -20 "$out/run.log"; exit 1; }
