@@ -14,6 +14,10 @@
 #       VALIDATION_PERTURBATION_WAVELENGTH L m makes them a smooth field of wavelengths L-3L, the same at every grid)
 #   VALIDATION_PUBLISHED="m1 m4" ... (only those of the published fabrics: petrak_m1_*, petrak_m4_*; none: none)
 #   VALIDATION_TRIAL_PRESETS="cotton_knit denim" ... (with VALIDATION_TRIALS: these presets run as trials too)
+#   VALIDATION_BEND_BIAS=measured ... (the four presets of Wang et al. get their measured bias bending rigidity,
+#       bend_bias, which adds the cells' twisting rigidity: docs/validation.md, section 5.1)
+#   VALIDATION_BEND_BIAS_RATIO=0.9 ... (the published fabrics, whose bias rigidity was not measured, get an assumed one:
+#       bend_bias_ratio, the bias rigidity over the mean of warp and weft)
 #   VALIDATION_SOLVER=mumps ... (the drape runs factor with MUMPS's Cholesky, SBAIJ matrix, instead of PETSc's own:
 #       4 times faster at 81 nodes with OpenBLAS, which scripts/install_deps.sh installs; the same solution to
 #       rounding, which the release's choice of folds can amplify: docs/validation.md, section 5.2)
@@ -62,6 +66,14 @@ for preset in ${VALIDATION_TRIAL_PRESETS:-}; do
   (( ${#trials[@]} > 0 )) || { echo "VALIDATION_TRIAL_PRESETS needs VALIDATION_TRIALS" >&2; exit 1; }
   published+=("$preset=-")
 done
+# Bending rigidity along the bias of the four presets, N m: the ARCSim files' bending row 1 (hinges at 45 degrees to
+# u), column 0 (flat state), / 8 as for warp and weft (src/fabric_presets.c, docs/validation.md section 1): 11oz-black-
+# denim 73.384567e-6, royal-target 107.997696e-6, white-dots-on-blk 40.659470e-6, gray-interlock 24.749964e-6.
+declare -A bend_bias=([denim]=9.173071e-6 [cotton_polyester]=1.349971e-5 [polyester]=5.082434e-6 [cotton_knit]=3.093746e-6)
+case ${VALIDATION_BEND_BIAS:-none} in
+  none | measured) ;;
+  *) echo "VALIDATION_BEND_BIAS must be none or measured, not '$VALIDATION_BEND_BIAS'" >&2; exit 1 ;;
+esac
 # Drape runs at once (one rank each); VALIDATION_JOBS=2 uses both cores of a 2-core machine.
 jobs=${VALIDATION_JOBS:-1}
 # Time step of the drape runs: dt 0.01 s gives the same drape as 0.005 s (docs/validation.md, section 5);
@@ -115,6 +127,12 @@ for preset in "${presets[@]}" "${published[@]%%=*}"; do
   fi
   if [[ -n $shear_hysteresis_ratio ]]; then # degrees -> rad
     sed -i "s/^    damping: 4 /    shear_hysteresis_ratio: $(awk "BEGIN {printf \"%.10g\", $shear_hysteresis_ratio * 3.14159265358979 / 180}")\n    damping: 4 /" "$out/cusick_$preset.yaml"
+  fi
+  if [[ -n ${VALIDATION_BEND_BIAS_RATIO:-} && $preset == petrak_* ]]; then
+    sed -i "s/^    damping: 4 /    bend_bias_ratio: $VALIDATION_BEND_BIAS_RATIO\n    damping: 4 /" "$out/cusick_$preset.yaml"
+  fi
+  if [[ ${VALIDATION_BEND_BIAS:-none} == measured && -n ${bend_bias[$preset]:-} ]]; then
+    sed -i "s/^    damping: 4 /    bend_bias: ${bend_bias[$preset]}\n    damping: 4 /" "$out/cusick_$preset.yaml"
   fi
   for n in "${grids[@]}"; do
     for trial in "${trials[@]:-}"; do

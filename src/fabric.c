@@ -78,3 +78,13 @@ PetscReal FabricBendAngleStiffness(const SceneFabric *fabric, PetscBool warp, Pe
 {
   return (warp ? fabric->bend_warp : fabric->bend_weft) * width / segment;
 }
+
+PetscReal FabricTwistRigidity(const SceneFabric *fabric)
+{
+  return fabric->bend_bias > 0 ? fabric->bend_bias - 0.25 * (fabric->bend_warp + fabric->bend_weft) : 0.0;
+}
+
+PetscReal FabricTwistStiffness(const SceneFabric *fabric, PetscReal cell_area, PetscReal lu, PetscReal lv)
+{
+  return FabricTwistRigidity(fabric) / (2 * cell_area * lu * lu * lv * lv);
+}

@@ -53,3 +53,11 @@ PetscReal FabricShearAngleStiffness(const SceneFabric *fabric, PetscReal cell_ar
 PetscReal FabricShearCellStiffness(const SceneFabric *fabric, PetscReal cell_area);
 PetscReal FabricBendLinkStiffness(const SceneFabric *fabric, PetscBool warp, PetscReal rest, PetscReal width);
 PetscReal FabricBendAngleStiffness(const SceneFabric *fabric, PetscBool warp, PetscReal segment, PetscReal width);
+/* Twisting rigidity Bt = bend_bias - (bend_warp + bend_weft) / 4, N m: what a measured bias bending rigidity adds to
+   the thread-angle springs, whose bend along the bias costs (bend_warp + bend_weft) / 4 (0 when bend_bias is 0). */
+PetscReal FabricTwistRigidity(const SceneFabric *fabric);
+/* Coefficient k of a cell's twist element, energy k T^2 (forces.h, CLOTH_ANGLE_TWIST): Bt / (2 A lu^2 lv^2), A the
+   cell's flat area, lu and lv the mean lengths of its warp and weft edges, so that on a rectangle (A = lu lv) a
+   twist kappa12 costs 2 Bt kappa12^2 per area and a bend along the bias adds Bt. (Not Bt / (2 A^3): on a skewed
+   sliver cell, A << lu lv, a bend along a thread also shows in T, and A^3 would make that spuriously stiff.) */
+PetscReal FabricTwistStiffness(const SceneFabric *fabric, PetscReal cell_area, PetscReal lu, PetscReal lv);

@@ -56,15 +56,16 @@ PetscErrorCode ClothLinkEvaluate(const ClothLink *link, const PetscReal x0[3], c
 
 PetscInt ClothAngleParticleCount(ClothAngleKind kind)
 {
-  return kind == CLOTH_ANGLE_CELL ? 4 : 3;
+  return (kind == CLOTH_ANGLE_CELL || kind == CLOTH_ANGLE_TWIST) ? 4 : 3;
 }
 
 void ClothAngleArms(ClothAngleKind kind, PetscReal A[CLOTH_ANGLE_MAX_PARTICLES], PetscReal B[CLOTH_ANGLE_MAX_PARTICLES])
 {
-  static const PetscReal arms[3][2][CLOTH_ANGLE_MAX_PARTICLES] = {
-      {{-1, 1, 0, 0}, {-1, 0, 1, 0}},                  /* corner */
-      {{-1, 1, 0, 0}, {0, -1, 1, 0}},                  /* chain */
-      {{-0.5, 0.5, 0.5, -0.5}, {-0.5, -0.5, 0.5, 0.5}} /* cell: d/du and d/dv of the bilinear map at the centre */
+  static const PetscReal arms[4][2][CLOTH_ANGLE_MAX_PARTICLES] = {
+      {{-1, 1, 0, 0}, {-1, 0, 1, 0}},                   /* corner */
+      {{-1, 1, 0, 0}, {0, -1, 1, 0}},                   /* chain */
+      {{-0.5, 0.5, 0.5, -0.5}, {-0.5, -0.5, 0.5, 0.5}}, /* cell: d/du and d/dv of the bilinear map at the centre */
+      {{-1, 0, 1, 0}, {0, -1, 0, 1}}                    /* twist: the cell's diagonals (TwistEvaluate) */
   };
 
   for (PetscInt k = 0; k < CLOTH_ANGLE_MAX_PARTICLES; k++) {
@@ -110,6 +111,58 @@ static void AngleArmVectors(const ClothAngle *angle, const PetscReal *const x[],
     }
 }
 
+/* S[p][q] = sum_m eps_pqm v_m, the antisymmetric matrix of the trilinear form det[., ., v]. */
+static void LeviCivitaContract(const PetscReal v[3], PetscReal S[3][3])
+{
+  S[0][0] = S[1][1] = S[2][2] = 0;
+  S[0][1]                     = v[2];
+  S[1][0]                     = -v[2];
+  S[0][2]                     = -v[1];
+  S[2][0]                     = v[1];
+  S[1][2]                     = v[0];
+  S[2][1]                     = -v[0];
+}
+
+/* The twist element (CLOTH_ANGLE_TWIST): E = k T^2, T = det[d, a, b] with d, a, b fixed combinations of the four
+   positions (weights D, Aw, Bw). T is trilinear, so its gradient and Hessian are exact and short:
+   dT/dx_k = D_k a x b + Aw_k b x d + Bw_k d x a, and the (k p, l q) second derivative is
+   S_b[p][q] (D_k Aw_l - Aw_k D_l) + S_a[p][q] (Bw_k D_l - D_k Bw_l) + S_d[p][q] (Aw_k Bw_l - Bw_k Aw_l). */
+static PetscErrorCode TwistEvaluate(const ClothAngle *twist, const PetscReal *const x[], PetscBool psd, PetscReal *energy, PetscReal force[], PetscReal H[])
+{
+  static const PetscReal D[4] = {1, -1, 1, -1};
+  PetscReal              Aw[CLOTH_ANGLE_MAX_PARTICLES], Bw[CLOTH_ANGLE_MAX_PARTICLES], a[3], b[3], d[3] = {0, 0, 0}, axb[3], bxd[3], dxa[3], T, grad[12];
+
+  PetscFunctionBeginUser;
+  AngleArmVectors(twist, x, Aw, Bw, a, b);
+  for (PetscInt k = 0; k < 4; k++)
+    for (PetscInt i = 0; i < 3; i++) d[i] += D[k] * x[k][i];
+  Cross3(a, b, axb);
+  Cross3(b, d, bxd);
+  Cross3(d, a, dxa);
+  T = Dot3(d, axb);
+  for (PetscInt k = 0; k < 4; k++)
+    for (PetscInt i = 0; i < 3; i++) grad[3 * k + i] = D[k] * axb[i] + Aw[k] * bxd[i] + Bw[k] * dxa[i];
+  if (energy) *energy = twist->k * T * T;
+  if (force)
+    for (PetscInt i = 0; i < 12; i++) force[i] = -2 * twist->k * T * grad[i];
+  if (H) {
+    PetscReal Sa[3][3], Sb[3][3], Sd[3][3];
+
+    LeviCivitaContract(a, Sa);
+    LeviCivitaContract(b, Sb);
+    LeviCivitaContract(d, Sd);
+    for (PetscInt k = 0; k < 4; k++)
+      for (PetscInt l = 0; l < 4; l++)
+        for (PetscInt p = 0; p < 3; p++)
+          for (PetscInt q = 0; q < 3; q++) {
+            const PetscReal HT = Sb[p][q] * (D[k] * Aw[l] - Aw[k] * D[l]) + Sa[p][q] * (Bw[k] * D[l] - D[k] * Bw[l]) + Sd[p][q] * (Aw[k] * Bw[l] - Bw[k] * Aw[l]);
+            H[12 * (3 * k + p) + 3 * l + q] = 2 * twist->k * (grad[3 * k + p] * grad[3 * l + q] + T * HT);
+          }
+    if (psd) PetscCall(ClothProjectPSD(12, H));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode ClothAngleEvaluate(const ClothAngle *angle, const PetscReal *const x[], PetscBool psd, PetscReal *energy, PetscReal force[], PetscReal H[])
 {
   const PetscInt np = ClothAngleParticleCount(angle->kind), n = 3 * np;
@@ -119,6 +172,10 @@ PetscErrorCode ClothAngleEvaluate(const ClothAngle *angle, const PetscReal *cons
   const PetscReal sin_floor = 1e-6;
 
   PetscFunctionBeginUser;
+  if (angle->kind == CLOTH_ANGLE_TWIST) {
+    PetscCall(TwistEvaluate(angle, x, psd, energy, force, H));
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
   AngleArmVectors(angle, x, A, B, a, b);
   NormalizedDot(a, b, &c, g, Hc);
   s = PetscSqrtReal(PetscMax(1.0 - c * c, 0.0));

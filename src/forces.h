@@ -25,9 +25,17 @@ typedef struct {
 typedef enum {
   CLOTH_ANGLE_CORNER, /* arms p0->p1 and p0->p2 (warp-weft angle at a cell corner: shear) */
   CLOTH_ANGLE_CHAIN,  /* arms p0->p1 and p1->p2 (consecutive segments of one thread: bending) */
-  CLOTH_ANGLE_CELL    /* p0..p3 a grid cell counter-clockwise from node (i, j): arms are the warp and weft
+  CLOTH_ANGLE_CELL,   /* p0..p3 a grid cell counter-clockwise from node (i, j): arms are the warp and weft
                          tangents at its centre, (x1 - x0 + x2 - x3)/2 and (x3 - x0 + x2 - x1)/2 (shear
                          measured in the tangent plane: a cell folded or twisted out of plane is not sheared) */
+  CLOTH_ANGLE_TWIST   /* p0..p3 a grid cell as above; not an angle spring but the cell's twist element, energy
+                         k T^2 with T = d . (a x b), d = x0 - x1 + x2 - x3 (the bilinear map's mixed derivative),
+                         a = x2 - x0, b = x3 - x1 (the diagonals). T is zero for a flat cell and for a cell bent
+                         along either thread, 2 kappa12 A^2 for a twist kappa12 of a cell of area A: the twisting
+                         rigidity the thread-angle springs lack (they give a bend along the bias (B_warp + B_weft)/4).
+                         k = Bt / (2 A^3) on a rectangle gives the continuum energy 2 Bt kappa12^2 per area
+                         (FabricTwistStiffness, which also bounds it on skewed cells);
+                         cos0, sin0 and slip are unused. */
 } ClothAngleKind;
 
 #define CLOTH_ANGLE_MAX_PARTICLES 4

@@ -98,6 +98,19 @@ static void AddAngle(ClothModel model, const PieceContext *pc, ClothAngleKind ki
   angle->sin0 = PetscAbsReal(a[0] * b[1] - a[1] * b[0]) / (na * nb);
 }
 
+/* The twist element of the cell with nodes local[0..3] (forces.h): its rest twist is zero, the pattern being flat. */
+static void AddTwist(ClothModel model, const PieceContext *pc, const PetscInt local[4], PetscReal k)
+{
+  ClothAngle *twist = &model->angles[model->nangles++];
+
+  for (PetscInt q = 0; q < 4; q++) twist->p[q] = pc->offset + local[q];
+  twist->kind = CLOTH_ANGLE_TWIST;
+  twist->k    = k;
+  twist->slip = 0;
+  twist->cos0 = 1;
+  twist->sin0 = 0;
+}
+
 /* Stretch links to the 4 neighbours, and the skip-one bending links, along one thread direction. */
 static void AddThreadInteractions(ClothModel model, const PieceContext *pc, PetscBool warp)
 {
@@ -158,6 +171,10 @@ static PetscErrorCode AddCellInteractions(ClothModel model, const PieceContext *
 
       for (PetscInt k = 0; k < 4; k++) model->quads[4 * model->nquads + k] = pc->offset + c[k];
       model->nquads++;
+      if (FabricTwistRigidity(pc->fabric) > 0) {
+        const PetscReal lu = 0.5 * (FlatDistance(pc, c[0], c[1]) + FlatDistance(pc, c[3], c[2])), lv = 0.5 * (FlatDistance(pc, c[0], c[3]) + FlatDistance(pc, c[1], c[2]));
+        AddTwist(model, pc, c, FabricTwistStiffness(pc->fabric, area, lu, lv));
+      }
       if (pc->fabric->shear <= 0) continue;
       if (pc->fabric->shear_model == CLOTH_SHEAR_LINK) {
         for (PetscInt d = 0; d < 2; d++) {
@@ -339,7 +356,7 @@ static PetscErrorCode ClothModelAllocate(Scene scene, ClothModel model)
     model->piece_offset[k + 1] = model->piece_offset[k] + n;
     ncells += (scene->pieces[k].nu - 1) * (scene->pieces[k].nv - 1);
     maxlinks += 4 * n + 2 * n;          /* stretch + bending (both directions) + 2 shear per cell */
-    maxangles += 4 * n + 2 * n + 2 * n; /* corner shear + bending + its friction elements */
+    maxangles += 4 * n + 2 * n + 2 * n + n; /* corner shear + bending + its friction elements + twist per cell */
   }
   for (PetscInt s = 0; s < scene->nseams; s++) {
     const ScenePiece *a = &scene->pieces[scene->seams[s].a.piece], *b = &scene->pieces[scene->seams[s].b.piece];

@@ -15,6 +15,9 @@
          bend: 10                     # link model: N/m per skip-one link; angle model: rigidity N m;
                                       # or bend_warp / bend_weft (each defaults to bend); default 0, >= 0
          bend_model: link             # link | angle (default link)
+         bend_bias: 0                 # angle model: bending rigidity along the bias, N m; default 0 (no twisting
+                                      # rigidity), else >= (bend_warp + bend_weft) / 4; or bend_bias_ratio: that
+                                      # rigidity / the mean of bend_warp and bend_weft (0, or >= 0.5)
          bend_hysteresis: 0           # angle model: friction moment HB per unit width, N m/m (KES 2HB / 2), or
                                       # bend_hysteresis_warp / _weft; default 0 (elastic), >= 0; or
                                       # bend_hysteresis_ratio: 2HB/B, 1/m (HB = ratio B / 2 per direction)
@@ -86,6 +89,8 @@ static const char *const SceneFabricKeys[]        = {"density",
                                                      "bend_warp",
                                                      "bend_weft",
                                                      "bend_model",
+                                                     "bend_bias",
+                                                     "bend_bias_ratio",
                                                      "bend_hysteresis",
                                                      "bend_hysteresis_warp",
                                                      "bend_hysteresis_weft",
@@ -690,6 +695,38 @@ static PetscErrorCode ReadShearHysteresis(SceneReader *r, yaml_node_t *map, Pets
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* bend_bias: the measured bending rigidity along the bias, or bend_bias_ratio: it as a multiple of the mean of
+   bend_warp and bend_weft (not both). The thread-angle springs already give (bend_warp + bend_weft) / 4 there and
+   the twist elements can only add to it. */
+static PetscErrorCode ReadBendBias(SceneReader *r, yaml_node_t *map, PetscInt bend_model, SceneFabric *fabric)
+{
+  const PetscReal threads = 0.25 * (fabric->bend_warp + fabric->bend_weft);
+  const char     *key     = "bend_bias";
+  PetscBool       has_bias = PETSC_FALSE, has_ratio = PETSC_FALSE;
+  yaml_node_t    *value;
+
+  PetscFunctionBeginUser;
+  PetscCall(SceneHasKey(r, map, "bend_bias", &has_bias));
+  PetscCall(SceneHasKey(r, map, "bend_bias_ratio", &has_ratio));
+  if (has_ratio) {
+    PetscReal ratio = 0;
+
+    key = "bend_bias_ratio";
+    PetscCall(SceneGetValue(r, map, key, &value));
+    if (has_bias) PetscCall(SceneFailValue(r, value, key, "no bend_bias_ratio beside bend_bias (give one of them)"));
+    PetscCall(ReadReal(r, map, key, PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "bias rigidity / mean of warp and weft", &ratio));
+    fabric->bend_bias = 0.5 * ratio * (fabric->bend_warp + fabric->bend_weft);
+  } else PetscCall(ReadReal(r, map, key, PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "bending rigidity along the bias, N m", &fabric->bend_bias));
+  if (fabric->bend_bias <= 0) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(SceneGetValue(r, map, key, &value));
+  if (bend_model != CLOTH_BEND_ANGLE) PetscCall(SceneFailValue(r, value, key, "no %s with bend_model: link (the twist elements complete the angle model)", key));
+  if (fabric->bend_bias < threads * (1 - 1e-12)) {
+    if (has_ratio) PetscCall(SceneFailValue(r, value, key, "0 (none) or at least 0.5: the thread springs alone give half the mean rigidity along the bias"));
+    PetscCall(SceneFailValue(r, value, key, "0 (none) or at least %g N m, what the thread springs alone give along the bias ((bend_warp + bend_weft) / 4)", (double)threads));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 static PetscErrorCode SceneReadFabric(SceneReader *r, yaml_node_t *name, yaml_node_t *map, SceneFabric *fabric)
 {
   PetscInt shear_model = CLOTH_SHEAR_LINK, bend_model = CLOTH_BEND_LINK;
@@ -713,6 +750,7 @@ static PetscErrorCode SceneReadFabric(SceneReader *r, yaml_node_t *name, yaml_no
   PetscCall(ReadShearHysteresis(r, map, shear_model, fabric));
   PetscCall(ReadChoice(r, map, "bend_model", PETSC_FALSE, ClothBendModels, &bend_model));
   PetscCall(ReadWarpWeft(r, map, "bend", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, bend_model == CLOTH_BEND_LINK ? "N/m per skip-one link" : "bending rigidity, N m", &fabric->bend_warp, &fabric->bend_weft));
+  PetscCall(ReadBendBias(r, map, bend_model, fabric));
   PetscCall(ReadBendHysteresis(r, map, fabric));
   if ((fabric->bend_hysteresis_warp > 0 || fabric->bend_hysteresis_weft > 0) && bend_model != CLOTH_BEND_ANGLE) PetscCall(SceneFailValue(r, map, "bend_hysteresis", "bending hysteresis needs bend_model: angle"));
   PetscCall(ReadReal(r, map, "damping", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "1/s", &fabric->damping));
@@ -1510,6 +1548,7 @@ static PetscErrorCode SceneFabricView(const SceneFabric *f, PetscViewer viewer)
   PetscCall(SceneAppendItem(list, sizeof(list), "shear %g N/m (%s)", (double)f->shear, ClothShearModels[f->shear_model]));
   if (f->shear_hysteresis > 0) PetscCall(SceneAppendItem(list, sizeof(list), "shear friction HG %g N/m", (double)f->shear_hysteresis));
   PetscCall(SceneAppendItem(list, sizeof(list), "bend %g/%g %s (warp/weft, %s)", (double)f->bend_warp, (double)f->bend_weft, f->bend_model == CLOTH_BEND_LINK ? "N/m" : "N m", ClothBendModels[f->bend_model]));
+  if (f->bend_bias > 0) PetscCall(SceneAppendItem(list, sizeof(list), "bias bend %g N m (twisting rigidity %g N m)", (double)f->bend_bias, (double)FabricTwistRigidity(f)));
   if (f->bend_hysteresis_warp > 0 || f->bend_hysteresis_weft > 0) PetscCall(SceneAppendItem(list, sizeof(list), "bending friction HB %g/%g N m/m (warp/weft)", (double)f->bend_hysteresis_warp, (double)f->bend_hysteresis_weft));
   PetscCall(SceneAppendItem(list, sizeof(list), "damping %g 1/s", (double)f->damping));
   if (f->repulsion > 0)

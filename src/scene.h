@@ -38,6 +38,9 @@ typedef struct {
   PetscReal       shear_hysteresis; /* cell model: friction shear force per unit width HG (half the KES 2HG), N/m (>= 0; 0 = elastic) */
   PetscReal       bend_warp, bend_weft; /* link model: N/m per skip-one link; angle model: bending rigidity, N m (>= 0) */
   ClothBendModel  bend_model;
+  PetscReal       bend_bias;              /* angle model: bending rigidity along the bias (45 degrees to the threads), N m;
+                                             0 = none (the thread springs alone give (bend_warp + bend_weft) / 4), else
+                                             >= that: the difference is the cells' twisting rigidity (fabric.h) */
   PetscReal       bend_hysteresis_warp;   /* angle model: friction moment per unit width HB (half the KES 2HB), N m/m (>= 0; 0 = elastic) */
   PetscReal       bend_hysteresis_weft;   /* the same for bending the weft threads */
   PetscReal       damping;                /* mass-proportional damping rate, 1/s (>= 0): force -damping m v */

@@ -1,11 +1,11 @@
 /* Every force's Jacobian against central finite differences.
 
    1. Element level: links (with and without repulsion active; biphasic below and beyond the knee) and angle springs (corner, chain
-      and cell, several rest angles) at random configurations (cells: randomly distorted squares): force = -dE/dx and Hessian = d(-force)/dx.
+      and cell, several rest angles) and the twist element at random configurations (cells: randomly distorted squares): force = -dE/dx and Hessian = d(-force)/dx.
    2. System level: the assembled implicit matrix of a small perturbed sheet with every interaction
       kind, A = M + h C + h^2 K, against finite differences of the total force in position and in
       velocity (damping). Relative error below 1e-6 everywhere. Prints nothing unless a check fails.
-   3. What the cell shear spring measures (CheckCellShearMeasure). */
+   3. What the cell shear spring measures (CheckCellShearMeasure), and the twist element (CheckTwistMeasure). */
 #include <petscsys.h>
 #include "forces.h"
 #include "seam.h"
@@ -127,15 +127,15 @@ static PetscErrorCode CheckElements(PetscRandom rnd)
       biphasic.k_stiff      = Uniform(rnd, 2, 10) * link.k;
       PetscCall(CheckElement(LinkFunction, &biphasic, 2, x, (trial % 2) ? "biphasic link beyond the knee" : "biphasic link below the knee"));
     }
-    for (PetscInt kind = CLOTH_ANGLE_CORNER; kind <= CLOTH_ANGLE_CELL; kind++) {
-      const char *const names[] = {"corner angle", "chain angle", "cell angle"};
+    for (PetscInt kind = CLOTH_ANGLE_CORNER; kind <= CLOTH_ANGLE_TWIST; kind++) {
+      const char *const names[] = {"corner angle", "chain angle", "cell angle", "cell twist"};
       const PetscReal   theta0  = (trial % 4 == 0) ? (kind == CLOTH_ANGLE_CHAIN ? 0.0 : PETSC_PI / 2) : Uniform(rnd, 0.05, PETSC_PI - 0.05);
       for (PetscInt k = 0; k < CLOTH_ANGLE_MAX_PARTICLES; k++) angle.p[k] = k;
       angle.kind = (ClothAngleKind)kind;
       angle.k    = Uniform(rnd, 1e-6, 1e-3);
       angle.cos0 = PetscCosReal(theta0);
       angle.sin0 = PetscSinReal(theta0);
-      if (angle.kind == CLOTH_ANGLE_CELL) { /* a cell: a 1 cm square, each corner moved by up to 4 mm in 3D */
+      if (ClothAngleParticleCount(angle.kind) == 4) { /* a cell: a 1 cm square, each corner moved by up to 4 mm in 3D */
         const PetscReal corner[4][2] = {{0, 0}, {0.01, 0}, {0.01, 0.01}, {0, 0.01}};
         PetscReal       xc[12];
         for (PetscInt q = 0; q < 4; q++)
@@ -227,6 +227,38 @@ static PetscErrorCode CheckCellShearMeasure(void)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* What the twist element measures, on a square cell of side h = 1 cm with k = Bt / (2 A^3) (FabricTwistStiffness),
+   its corners lifted onto a surface z(x, y) (exact: T is a polynomial of the corners):
+   - bent along either thread (z = kappa x^2 / 2, z = kappa y^2 / 2): 0, the thread springs' business;
+   - twisted (z = kappa x y, kappa12 = kappa): 2 Bt kappa^2 A, the continuum 2 Bt kappa12^2 per area;
+   - bent along the bias (z = kappa (x + y)^2 / 4, kappa12 = kappa / 2): 0.5 Bt kappa^2 A, so the bias rigidity
+     gains Bt. Relative 1e-12. */
+static PetscErrorCode CheckTwistMeasure(void)
+{
+  const PetscReal h = 0.01, A = h * h, Bt = 3e-6, kappa = 20;
+  const PetscReal corner[4][2] = {{0, 0}, {h, 0}, {h, h}, {0, h}};
+  const PetscReal expected[4]  = {0, 0, 2 * Bt * kappa * kappa * A, 0.5 * Bt * kappa * kappa * A};
+  const char     *names[4]     = {"bent along u", "bent along v", "twisted", "bent along the bias"};
+  ClothAngle      twist        = {{0, 1, 2, 3}, CLOTH_ANGLE_TWIST, Bt / (2 * A * A * A), 1.0, 0.0, 0.0};
+
+  PetscFunctionBeginUser;
+  for (PetscInt shape = 0; shape < 4; shape++) {
+    PetscReal        x[12], E;
+    const PetscReal *xs[4] = {&x[0], &x[3], &x[6], &x[9]};
+
+    for (PetscInt q = 0; q < 4; q++) {
+      const PetscReal u = corner[q][0], v = corner[q][1];
+      const PetscReal z[4] = {0.5 * kappa * u * u, 0.5 * kappa * v * v, kappa * u * v, 0.25 * kappa * (u + v) * (u + v)};
+      x[3 * q]     = u;
+      x[3 * q + 1] = v;
+      x[3 * q + 2] = z[shape];
+    }
+    PetscCall(ClothAngleEvaluate(&twist, xs, PETSC_FALSE, &E, NULL, NULL));
+    PetscCheck(PetscAbsReal(E - expected[shape]) <= 1e-12 * 2 * Bt * kappa * kappa * A, PETSC_COMM_SELF, PETSC_ERR_PLIB, "twist element, cell %s: energy %g, expected %g", names[shape], (double)E, (double)expected[shape]);
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 int main(int argc, char **argv)
 {
   PetscRandom rnd;
@@ -237,6 +269,7 @@ int main(int argc, char **argv)
   PetscCall(PetscRandomSeed(rnd));
   PetscCall(CheckElements(rnd));
   PetscCall(CheckCellShearMeasure());
+  PetscCall(CheckTwistMeasure());
   PetscCall(CheckFrictionSlide());
   PetscCall(PetscRandomDestroy(&rnd));
   PetscCall(PetscFinalize());
