@@ -34,7 +34,7 @@ typedef struct {
   PetscReal lt_warp, lt_weft;     /* LT, tensile linearity (0.5 < LT < 1.5), 0 = not given */
   PetscReal hysteresis_warp;      /* 2HB, gf cm/cm: width of the bending hysteresis loop (0 = not given: elastic) */
   PetscReal hysteresis_weft;
-  PetscReal shear_hysteresis;     /* 2HG, gf/cm: width of the shear hysteresis loop at 0.5 degree (0 = not given: elastic) */
+  PetscReal shear_hysteresis; /* 2HG, gf/cm: width of the shear hysteresis loop at 0.5 degree (0 = not given: elastic) */
 } FabricKES;
 
 /* Sets density, stretch (secant modulus Fm/EMT, or a biphasic curve through the same work WT when LT is given),

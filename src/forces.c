@@ -155,7 +155,7 @@ static PetscErrorCode TwistEvaluate(const ClothAngle *twist, const PetscReal *co
       for (PetscInt l = 0; l < 4; l++)
         for (PetscInt p = 0; p < 3; p++)
           for (PetscInt q = 0; q < 3; q++) {
-            const PetscReal HT = Sb[p][q] * (D[k] * Aw[l] - Aw[k] * D[l]) + Sa[p][q] * (Bw[k] * D[l] - D[k] * Bw[l]) + Sd[p][q] * (Aw[k] * Bw[l] - Bw[k] * Aw[l]);
+            const PetscReal HT              = Sb[p][q] * (D[k] * Aw[l] - Aw[k] * D[l]) + Sa[p][q] * (Bw[k] * D[l] - D[k] * Bw[l]) + Sd[p][q] * (Aw[k] * Bw[l] - Bw[k] * Aw[l]);
             H[12 * (3 * k + p) + 3 * l + q] = 2 * twist->k * (grad[3 * k + p] * grad[3 * l + q] + T * HT);
           }
     if (psd) PetscCall(ClothProjectPSD(12, H));

@@ -355,7 +355,7 @@ static PetscErrorCode ClothModelAllocate(Scene scene, ClothModel model)
     const PetscInt n           = scene->pieces[k].nu * scene->pieces[k].nv;
     model->piece_offset[k + 1] = model->piece_offset[k] + n;
     ncells += (scene->pieces[k].nu - 1) * (scene->pieces[k].nv - 1);
-    maxlinks += 4 * n + 2 * n;          /* stretch + bending (both directions) + 2 shear per cell */
+    maxlinks += 4 * n + 2 * n;              /* stretch + bending (both directions) + 2 shear per cell */
     maxangles += 4 * n + 2 * n + 2 * n + n; /* corner shear + bending + its friction elements + twist per cell */
   }
   for (PetscInt s = 0; s < scene->nseams; s++) {

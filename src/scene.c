@@ -700,8 +700,8 @@ static PetscErrorCode ReadShearHysteresis(SceneReader *r, yaml_node_t *map, Pets
    the twist elements can only add to it. */
 static PetscErrorCode ReadBendBias(SceneReader *r, yaml_node_t *map, PetscInt bend_model, SceneFabric *fabric)
 {
-  const PetscReal threads = 0.25 * (fabric->bend_warp + fabric->bend_weft);
-  const char     *key     = "bend_bias";
+  const PetscReal threads  = 0.25 * (fabric->bend_warp + fabric->bend_weft);
+  const char     *key      = "bend_bias";
   PetscBool       has_bias = PETSC_FALSE, has_ratio = PETSC_FALSE;
   yaml_node_t    *value;
 
@@ -716,7 +716,8 @@ static PetscErrorCode ReadBendBias(SceneReader *r, yaml_node_t *map, PetscInt be
     if (has_bias) PetscCall(SceneFailValue(r, value, key, "no bend_bias_ratio beside bend_bias (give one of them)"));
     PetscCall(ReadReal(r, map, key, PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "bias rigidity / mean of warp and weft", &ratio));
     fabric->bend_bias = 0.5 * ratio * (fabric->bend_warp + fabric->bend_weft);
-  } else PetscCall(ReadReal(r, map, key, PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "bending rigidity along the bias, N m", &fabric->bend_bias));
+  } else
+    PetscCall(ReadReal(r, map, key, PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "bending rigidity along the bias, N m", &fabric->bend_bias));
   if (fabric->bend_bias <= 0) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(SceneGetValue(r, map, key, &value));
   if (bend_model != CLOTH_BEND_ANGLE) PetscCall(SceneFailValue(r, value, key, "no %s with bend_model: link (the twist elements complete the angle model)", key));

@@ -35,22 +35,22 @@ typedef struct {
   PetscReal       stretch_weft; /* the same along the weft (v, j) threads, N/m (> 0) */
   PetscReal       shear;        /* in-plane shear modulus, N/m (>= 0) */
   ClothShearModel shear_model;
-  PetscReal       shear_hysteresis; /* cell model: friction shear force per unit width HG (half the KES 2HG), N/m (>= 0; 0 = elastic) */
+  PetscReal       shear_hysteresis;     /* cell model: friction shear force per unit width HG (half the KES 2HG), N/m (>= 0; 0 = elastic) */
   PetscReal       bend_warp, bend_weft; /* link model: N/m per skip-one link; angle model: bending rigidity, N m (>= 0) */
   ClothBendModel  bend_model;
-  PetscReal       bend_bias;              /* angle model: bending rigidity along the bias (45 degrees to the threads), N m;
-                                             0 = none (the thread springs alone give (bend_warp + bend_weft) / 4), else
-                                             >= that: the difference is the cells' twisting rigidity (fabric.h) */
-  PetscReal       bend_hysteresis_warp;   /* angle model: friction moment per unit width HB (half the KES 2HB), N m/m (>= 0; 0 = elastic) */
-  PetscReal       bend_hysteresis_weft;   /* the same for bending the weft threads */
-  PetscReal       damping;                /* mass-proportional damping rate, 1/s (>= 0): force -damping m v */
-  PetscReal       repulsion;              /* stretch links repel below this fraction of their rest length (0 = off, < 1) */
-  PetscReal       repulsion_stiffness;    /* stiffness of that repulsion relative to the link's stretch stiffness (>= 0) */
-  PetscReal       stretch_knee_warp;      /* biphasic tensile curve: strain beyond which warp links stiffen (0 = linear) */
-  PetscReal       stretch_knee_weft;      /* the same for the weft links */
-  PetscReal       stretch_stiff_warp;     /* tensile 2D modulus beyond the knee, warp, N/m (defaults to stretch_warp) */
-  PetscReal       stretch_stiff_weft;     /* the same along the weft, N/m */
-  char            preset[CLOTH_NAME_LEN]; /* measured fabric it starts from ("" = none; see fabric_presets.h) */
+  PetscReal       bend_bias;        /* angle model: bending rigidity along the bias (45 degrees to the threads), N m;
+                                       0 = none (the thread springs alone give (bend_warp + bend_weft) / 4), else
+                                       >= that: the difference is the cells' twisting rigidity (fabric.h) */
+  PetscReal bend_hysteresis_warp;   /* angle model: friction moment per unit width HB (half the KES 2HB), N m/m (>= 0; 0 = elastic) */
+  PetscReal bend_hysteresis_weft;   /* the same for bending the weft threads */
+  PetscReal damping;                /* mass-proportional damping rate, 1/s (>= 0): force -damping m v */
+  PetscReal repulsion;              /* stretch links repel below this fraction of their rest length (0 = off, < 1) */
+  PetscReal repulsion_stiffness;    /* stiffness of that repulsion relative to the link's stretch stiffness (>= 0) */
+  PetscReal stretch_knee_warp;      /* biphasic tensile curve: strain beyond which warp links stiffen (0 = linear) */
+  PetscReal stretch_knee_weft;      /* the same for the weft links */
+  PetscReal stretch_stiff_warp;     /* tensile 2D modulus beyond the knee, warp, N/m (defaults to stretch_warp) */
+  PetscReal stretch_stiff_weft;     /* the same along the weft, N/m */
+  char      preset[CLOTH_NAME_LEN]; /* measured fabric it starts from ("" = none; see fabric_presets.h) */
 } SceneFabric;
 
 /* A flat pattern piece: a logical grid of nu x nv particles (i along u = warp, j along v = weft),

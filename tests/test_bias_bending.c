@@ -59,7 +59,7 @@ static PetscErrorCode MeasureBendingRigidity(ClothModel model, PetscInt offset, 
 int main(int argc, char **argv)
 {
   const PetscReal deg = PETSC_PI / 180, kappa = 20, B = 1e-5;
-  const PetscReal angles[] = {0, 30, 45, 60, 90};
+  const PetscReal angles[]                 = {0, 30, 45, 60, 90};
   char            path[PETSC_MAX_PATH_LEN] = "tests/data/bias_bending.yaml";
   PetscReal       rtol                     = 0.01;
   Scene           scene;
@@ -72,7 +72,7 @@ int main(int argc, char **argv)
   PetscCall(ClothModelCreate(scene, &model));
   for (PetscInt p = 0; p < scene->npieces; p++) {
     const PetscInt   offset = model->piece_offset[p], n = model->piece_offset[p + 1] - offset;
-    const PetscReal *flat   = &model->position[3 * offset];
+    const PetscReal *flat = &model->position[3 * offset];
     const PetscReal  side = scene->pieces[p].size[0], c[2] = {flat[0] + 0.5 * side, flat[1] + 0.5 * side};
     const PetscReal  h = side / (scene->pieces[p].nu - 1), half = 0.25 * side + 0.01 * h; /* middle half, its nodes included */
     const PetscBool  isotropic = FabricTwistRigidity(&scene->fabrics[scene->pieces[p].fabric]) > 0;
@@ -86,8 +86,10 @@ int main(int argc, char **argv)
 
       RollOntoCylinder(n, flat, c, kappa, phi, x);
       PetscCall(MeasureBendingRigidity(model, offset, n, flat, c, half, h, kappa, x, &measured));
-      PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%-8s bend at %2.0f degrees to the warp: B_phi %.5e N m (expected %.5e, relative %+.2e)\n", scene->pieces[p].name, (double)angles[k], (double)measured, (double)expected, (double)(measured / expected - 1)));
-      PetscCheck(PetscAbsReal(measured / expected - 1) <= rtol, PETSC_COMM_SELF, PETSC_ERR_PLIB, "piece %s bent at %g degrees: B_phi %g N m, expected %g within %g", scene->pieces[p].name, (double)angles[k], (double)measured, (double)expected, (double)rtol);
+      PetscCall(
+          PetscPrintf(PETSC_COMM_WORLD, "%-8s bend at %2.0f degrees to the warp: B_phi %.5e N m (expected %.5e, relative %+.2e)\n", scene->pieces[p].name, (double)angles[k], (double)measured, (double)expected, (double)(measured / expected - 1)));
+      PetscCheck(PetscAbsReal(measured / expected - 1) <= rtol, PETSC_COMM_SELF, PETSC_ERR_PLIB, "piece %s bent at %g degrees: B_phi %g N m, expected %g within %g", scene->pieces[p].name, (double)angles[k], (double)measured, (double)expected,
+                 (double)rtol);
     }
     PetscCall(PetscFree(x));
   }

@@ -249,9 +249,9 @@ static PetscErrorCode CheckTwistMeasure(void)
     for (PetscInt q = 0; q < 4; q++) {
       const PetscReal u = corner[q][0], v = corner[q][1];
       const PetscReal z[4] = {0.5 * kappa * u * u, 0.5 * kappa * v * v, kappa * u * v, 0.25 * kappa * (u + v) * (u + v)};
-      x[3 * q]     = u;
-      x[3 * q + 1] = v;
-      x[3 * q + 2] = z[shape];
+      x[3 * q]             = u;
+      x[3 * q + 1]         = v;
+      x[3 * q + 2]         = z[shape];
     }
     PetscCall(ClothAngleEvaluate(&twist, xs, PETSC_FALSE, &E, NULL, NULL));
     PetscCheck(PetscAbsReal(E - expected[shape]) <= 1e-12 * 2 * Bt * kappa * kappa * A, PETSC_COMM_SELF, PETSC_ERR_PLIB, "twist element, cell %s: energy %g, expected %g", names[shape], (double)E, (double)expected[shape]);
