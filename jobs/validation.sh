@@ -120,20 +120,18 @@ drape() { # drape PRESET N [TRIAL]: one drape run and its measurement in $out/cu
     $py postprocess/cusick_drape.py "$(ls "$out/$name"/checkpoint_*.h5 | tail -1)" --scene "$out/cusick_$preset.yaml" --grid "$n" --json > "$out/$name.json"
   fi
 }
+add_fabric_key() { # add_fabric_key FILE KEY VALUE: one more key in the drape scene's fabric (before its damping)
+  sed -i "s/^    damping: 4 /    $2: $3\n    damping: 4 /" "$1"
+}
 for preset in "${presets[@]}" "${published[@]%%=*}"; do
-  sed "s/preset: cotton_polyester .*/preset: $preset/" input/cusick_drape.yaml > "$out/cusick_$preset.yaml"
-  if [[ -n $hysteresis_ratio ]]; then # 1/cm -> 1/m
-    sed -i "s/^    damping: 4 /    bend_hysteresis_ratio: $(awk "BEGIN {print 100 * $hysteresis_ratio}")\n    damping: 4 /" "$out/cusick_$preset.yaml"
-  fi
-  if [[ -n $shear_hysteresis_ratio ]]; then # degrees -> rad
-    sed -i "s/^    damping: 4 /    shear_hysteresis_ratio: $(awk "BEGIN {printf \"%.10g\", $shear_hysteresis_ratio * 3.14159265358979 / 180}")\n    damping: 4 /" "$out/cusick_$preset.yaml"
-  fi
-  if [[ -n ${VALIDATION_BEND_BIAS_RATIO:-} && $preset == petrak_* ]]; then
-    sed -i "s/^    damping: 4 /    bend_bias_ratio: $VALIDATION_BEND_BIAS_RATIO\n    damping: 4 /" "$out/cusick_$preset.yaml"
-  fi
-  if [[ ${VALIDATION_BEND_BIAS:-none} == measured && -n ${bend_bias[$preset]:-} ]]; then
-    sed -i "s/^    damping: 4 /    bend_bias: ${bend_bias[$preset]}\n    damping: 4 /" "$out/cusick_$preset.yaml"
-  fi
+  scene=$out/cusick_$preset.yaml
+  sed "s/preset: cotton_polyester .*/preset: $preset/" input/cusick_drape.yaml > "$scene"
+  # 1/cm -> 1/m
+  [[ -z $hysteresis_ratio ]] || add_fabric_key "$scene" bend_hysteresis_ratio "$(awk "BEGIN {print 100 * $hysteresis_ratio}")"
+  # degrees -> rad
+  [[ -z $shear_hysteresis_ratio ]] || add_fabric_key "$scene" shear_hysteresis_ratio "$(awk "BEGIN {printf \"%.10g\", $shear_hysteresis_ratio * 3.14159265358979 / 180}")"
+  [[ -z ${VALIDATION_BEND_BIAS_RATIO:-} || $preset != petrak_* ]] || add_fabric_key "$scene" bend_bias_ratio "$VALIDATION_BEND_BIAS_RATIO"
+  [[ ${VALIDATION_BEND_BIAS:-none} != measured || -z ${bend_bias[$preset]:-} ]] || add_fabric_key "$scene" bend_bias "${bend_bias[$preset]}"
   for n in "${grids[@]}"; do
     for trial in "${trials[@]:-}"; do
       drape "$preset" "$n" $trial &
