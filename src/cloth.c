@@ -15,6 +15,7 @@ PetscErrorCode ClothCreate(MPI_Comm comm, Scene scene, Cloth *cloth)
   c->gravity_scale     = 1.0;
   c->friction_scale    = 1.0;
   c->perturbation_seed = 1;
+  c->stiffness         = CLOTH_STIFFNESS_GAUSS_NEWTON;
   *cloth               = c;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -31,6 +32,9 @@ PetscErrorCode ClothSetFromOptions(Cloth cloth)
   PetscCall(PetscOptionsInt("-cloth_perturbation_seed", "Seed of -cloth_perturbation (one trial of a test per seed)", "ClothModelPerturbPositions", cloth->perturbation_seed, &cloth->perturbation_seed, NULL));
   PetscCall(PetscOptionsReal("-cloth_perturbation_wavelength", "Shortest wavelength, m, of a smooth -cloth_perturbation field, the same at any resolution (0: independent per particle)", "ClothModelPerturbPositions", cloth->perturbation_wavelength,
                              &cloth->perturbation_wavelength, NULL));
+  PetscCall(PetscOptionsEnum("-cloth_stiffness",
+                             "Stiffness of the angle and twist elements in the implicit system: gauss_newton (closed form, positive semidefinite), projected (exact Hessian projected by an eigen-decomposition), exact (indefinite: tests only)",
+                             "ClothAssembleImplicitSystem", ClothStiffnessTypes, (PetscEnum)cloth->stiffness, (PetscEnum *)&cloth->stiffness, NULL));
   PetscOptionsEnd();
   PetscCheck(cloth->perturbation >= 0, cloth->comm, PETSC_ERR_USER_INPUT, "-cloth_perturbation must not be negative, got %g", (double)cloth->perturbation);
   PetscCheck(cloth->perturbation_wavelength >= 0, cloth->comm, PETSC_ERR_USER_INPUT, "-cloth_perturbation_wavelength must not be negative, got %g", (double)cloth->perturbation_wavelength);
@@ -379,6 +383,13 @@ PetscErrorCode ClothCreateStateVec(Cloth cloth, Vec *v)
 {
   PetscFunctionBeginUser;
   PetscCall(VecDuplicate(cloth->position, v));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothGetComm(Cloth cloth, MPI_Comm *comm)
+{
+  PetscFunctionBeginUser;
+  *comm = cloth->comm;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -16,8 +16,9 @@ typedef struct {
   PetscReal          h2;
   PetscBool          energy_wanted;
   PetscReal          energy;
-  PetscBool          psd;      /* clamp the stiffness to its positive semidefinite part */
-  const PetscScalar *normal;   /* contact normals, local form (NULL: no contacts) */
+  PetscBool          psd;       /* clamp the links' stiffness to its positive semidefinite part */
+  ClothStiffness     stiffness; /* form of the angle and twist elements' stiffness */
+  const PetscScalar *normal;    /* contact normals, local form (NULL: no contacts) */
 } ClothEvaluation;
 
 /* Element data in a common form: np particles, forces (3 np), Hessian (3np x 3np, row-major). */
@@ -45,16 +46,16 @@ static PetscErrorCode EvaluateLink(const ClothLink *link, const PetscScalar *x, 
   if (want_h)
     for (PetscInt r = 0; r < 3; r++)
       for (PetscInt c = 0; c < 3; c++) {
-        const PetscReal k = K[3 * r + c];
-        e->H[6 * r + c]             = k;
-        e->H[6 * r + 3 + c]         = -k;
-        e->H[6 * (3 + r) + c]       = -k;
-        e->H[6 * (3 + r) + 3 + c]   = k;
+        const PetscReal k         = K[3 * r + c];
+        e->H[6 * r + c]           = k;
+        e->H[6 * r + 3 + c]       = -k;
+        e->H[6 * (3 + r) + c]     = -k;
+        e->H[6 * (3 + r) + 3 + c] = k;
       }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-static PetscErrorCode EvaluateAngle(const ClothAngle *angle, const PetscScalar *x, PetscBool want_h, PetscBool psd, ClothElement *e)
+static PetscErrorCode EvaluateAngle(const ClothAngle *angle, const PetscScalar *x, PetscBool want_h, ClothStiffness form, ClothElement *e)
 {
   const PetscReal *xs[CLOTH_ANGLE_MAX_PARTICLES];
 
@@ -64,7 +65,7 @@ static PetscErrorCode EvaluateAngle(const ClothAngle *angle, const PetscScalar *
     e->p[k] = angle->p[k];
     xs[k]   = &x[3 * angle->p[k]];
   }
-  PetscCall(ClothAngleEvaluate(angle, xs, psd, &e->energy, e->force, want_h ? e->H : NULL));
+  PetscCall(ClothAngleEvaluate(angle, xs, form, &e->energy, e->force, want_h ? e->H : NULL));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -159,7 +160,7 @@ static PetscErrorCode ClothEvaluateInteractions(Cloth cloth, const PetscScalar *
     PetscCall(AccumulateElement(cloth, &e, ev));
   }
   for (PetscInt a = 0; a < cloth->nangles; a++) {
-    PetscCall(EvaluateAngle(&cloth->angles[a], x, want_h, ev->psd, &e));
+    PetscCall(EvaluateAngle(&cloth->angles[a], x, want_h, ev->stiffness, &e));
     PetscCall(AccumulateElement(cloth, &e, ev));
   }
   for (PetscInt s = 0; s < cloth->nseamlinks; s++) { /* their Hessians are positive semidefinite as they are */
@@ -312,9 +313,10 @@ PetscErrorCode ClothAssembleImplicitSystem(Cloth cloth, PetscReal h, Vec positio
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(ClothLog.jacobian, 0, 0, 0, 0));
   PetscCall(MatZeroEntries(A));
-  ev.A   = A;
-  ev.h2  = h * h;
-  ev.psd = cloth->exact_stiffness ? PETSC_FALSE : PETSC_TRUE;
+  ev.A         = A;
+  ev.h2        = h * h;
+  ev.stiffness = cloth->stiffness;
+  ev.psd       = cloth->stiffness == CLOTH_STIFFNESS_EXACT ? PETSC_FALSE : PETSC_TRUE;
   PetscCall(GetContactNormalsLocal(cloth, &normal_local, &ev.normal));
   PetscCall(ClothEvaluate(cloth, position, velocity, cloth->work_force, cloth->work_kv, &ev));
   PetscCall(AddDiagonalBlocks(cloth, ev.normal, h, A));
@@ -387,11 +389,15 @@ static PetscErrorCode CountRowBlocks(Cloth cloth, PetscInt dnnz[], PetscInt onnz
     for (PetscInt k = cloth->xadj[g]; k < cloth->xadj[g + 1]; k++) {
       const PetscInt  col   = cloth->solver_of_natural[cloth->adjncy[k]];
       const PetscBool owned = (col >= cloth->rstart && col < rend) ? PETSC_TRUE : PETSC_FALSE;
-      if (owned) dnnz[i]++;
-      else onnz[i]++;
+      if (owned)
+        dnnz[i]++;
+      else
+        onnz[i]++;
       if (col > row) {
-        if (owned) dnnzu[i]++;
-        else onnzu[i]++;
+        if (owned)
+          dnnzu[i]++;
+        else
+          onnzu[i]++;
       }
     }
   }
@@ -420,7 +426,8 @@ PetscErrorCode ClothCreateMatrix(Cloth cloth, Mat *A)
   PetscCall(MatSetLocalToGlobalMapping(*A, l2g, l2g));
   PetscCall(MatSetOption(*A, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
   PetscCall(PetscObjectTypeCompareAny((PetscObject)*A, &sbaij, MATSBAIJ, MATSEQSBAIJ, MATMPISBAIJ, ""));
-  if (sbaij) PetscCall(MatSetOption(*A, MAT_IGNORE_LOWER_TRIANGULAR, PETSC_TRUE));
+  if (sbaij)
+    PetscCall(MatSetOption(*A, MAT_IGNORE_LOWER_TRIANGULAR, PETSC_TRUE));
   else {
     PetscCall(MatSetOption(*A, MAT_SYMMETRIC, PETSC_TRUE));
     PetscCall(MatSetOption(*A, MAT_SYMMETRY_ETERNAL, PETSC_TRUE));
@@ -431,7 +438,7 @@ PetscErrorCode ClothCreateMatrix(Cloth cloth, Mat *A)
 PetscErrorCode ClothSetExactStiffness(Cloth cloth, PetscBool exact)
 {
   PetscFunctionBeginUser;
-  cloth->exact_stiffness = exact;
+  cloth->stiffness = exact ? CLOTH_STIFFNESS_EXACT : CLOTH_STIFFNESS_GAUSS_NEWTON;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -2,6 +2,7 @@
    cloth_assembly.c (forces, Jacobians, energies). */
 #pragma once
 #include "cloth.h"
+#include "forces.h"
 
 struct _n_Cloth {
   MPI_Comm           comm;
@@ -11,8 +12,8 @@ struct _n_Cloth {
   PetscBool          view_partition;
   PetscBool          view_partition_summary; /* one line at set-up on more than one rank (the driver's default) */
   PetscBool          setup;
-  PetscBool          exact_stiffness; /* assemble the exact Hessian instead of its PSD part (tests) */
-  PetscReal          perturbation;    /* amplitude, m, of the seeded start imperfections (0: none) */
+  ClothStiffness     stiffness;    /* form of the angle and twist elements' stiffness in the implicit system */
+  PetscReal          perturbation; /* amplitude, m, of the seeded start imperfections (0: none) */
   PetscInt           perturbation_seed;
   PetscReal          perturbation_wavelength; /* m: 0 independent per particle, > 0 a smooth field (model.h) */
 

@@ -3,6 +3,8 @@
 #include <petscblaslapack.h>
 #include "vec3.h"
 
+const char *const ClothStiffnessTypes[] = {"exact", "projected", "gauss_newton", "ClothStiffness", "CLOTH_STIFFNESS_", NULL};
+
 /* Link potential phi(l) and its first two derivatives. */
 static void LinkPotential(const ClothLink *link, PetscReal l, PetscReal *phi, PetscReal *dphi, PetscReal *d2phi)
 {
@@ -127,7 +129,7 @@ static void LeviCivitaContract(const PetscReal v[3], PetscReal S[3][3])
    positions (weights D, Aw, Bw). T is trilinear, so its gradient and Hessian are exact and short:
    dT/dx_k = D_k a x b + Aw_k b x d + Bw_k d x a, and the (k p, l q) second derivative is
    S_b[p][q] (D_k Aw_l - Aw_k D_l) + S_a[p][q] (Bw_k D_l - D_k Bw_l) + S_d[p][q] (Aw_k Bw_l - Bw_k Aw_l). */
-static PetscErrorCode TwistEvaluate(const ClothAngle *twist, const PetscReal *const x[], PetscBool psd, PetscReal *energy, PetscReal force[], PetscReal H[])
+static PetscErrorCode TwistEvaluate(const ClothAngle *twist, const PetscReal *const x[], ClothStiffness form, PetscReal *energy, PetscReal force[], PetscReal H[])
 {
   static const PetscReal D[4] = {1, -1, 1, -1};
   PetscReal              Aw[CLOTH_ANGLE_MAX_PARTICLES], Bw[CLOTH_ANGLE_MAX_PARTICLES], a[3], b[3], d[3] = {0, 0, 0}, axb[3], bxd[3], dxa[3], T, grad[12];
@@ -145,7 +147,10 @@ static PetscErrorCode TwistEvaluate(const ClothAngle *twist, const PetscReal *co
   if (energy) *energy = twist->k * T * T;
   if (force)
     for (PetscInt i = 0; i < 12; i++) force[i] = -2 * twist->k * T * grad[i];
-  if (H) {
+  if (H && form == CLOTH_STIFFNESS_GAUSS_NEWTON) { /* 2 k grad T grad T^T: drops the term in T, zero at rest */
+    for (PetscInt r = 0; r < 12; r++)
+      for (PetscInt q = 0; q < 12; q++) H[12 * r + q] = 2 * twist->k * grad[r] * grad[q];
+  } else if (H) {
     PetscReal Sa[3][3], Sb[3][3], Sd[3][3];
 
     LeviCivitaContract(a, Sa);
@@ -158,12 +163,61 @@ static PetscErrorCode TwistEvaluate(const ClothAngle *twist, const PetscReal *co
             const PetscReal HT              = Sb[p][q] * (D[k] * Aw[l] - Aw[k] * D[l]) + Sa[p][q] * (Bw[k] * D[l] - D[k] * Bw[l]) + Sd[p][q] * (Aw[k] * Bw[l] - Bw[k] * Aw[l]);
             H[12 * (3 * k + p) + 3 * l + q] = 2 * twist->k * (grad[3 * k + p] * grad[3 * l + q] + T * HT);
           }
-    if (psd) PetscCall(ClothProjectPSD(12, H));
+    if (form == CLOTH_STIFFNESS_PROJECTED) PetscCall(ClothProjectPSD(12, H));
   }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode ClothAngleEvaluate(const ClothAngle *angle, const PetscReal *const x[], PetscBool psd, PetscReal *energy, PetscReal force[], PetscReal H[])
+/* Gauss-Newton stiffness of an angle spring with respect to its arms (a, b), 6x6 row-major. For a straight rest
+   (theta0 = 0) the energy is k (1 - c) = (k/2) |a/|a| - b/|b||^2, whose residual's Jacobian J = [P_a/|a|, -P_b/|b|]
+   (P the projector normal to an arm) gives k J^T J: both bending directions, no singularity at a straight thread.
+   Otherwise E = k (1 - cos(theta - theta0)) as a function of theta gives k max(cos(theta - theta0), 0) grad theta
+   grad theta^T with grad theta = -grad c / sin theta, in the arms' plane; when the spring is bent beyond its rest
+   angle, the positive out-of-plane curvature of theta, (dE/dtheta / sin theta) u u^T with u = (n/|a|, -n/|b|), n the
+   plane's unit normal, is kept too: as theta0 -> 0 it becomes the straight form's out-of-plane part, so the
+   stiffness does not jump when a slider moves a rest angle off zero. */
+static void AngleGaussNewton(const ClothAngle *angle, const PetscReal a[3], const PetscReal b[3], PetscReal c, PetscReal s, const PetscReal g[6], PetscReal sin_floor, PetscReal He[36])
+{
+  if (angle->sin0 == 0 && angle->cos0 > 0) {
+    const PetscReal la = PetscSqrtReal(Dot3(a, a)), lb = PetscSqrtReal(Dot3(b, b));
+    PetscReal       Pa[9], Pb[9];
+
+    for (PetscInt i = 0; i < 3; i++)
+      for (PetscInt j = 0; j < 3; j++) {
+        Pa[3 * i + j] = ((i == j) ? 1.0 : 0.0) - a[i] * a[j] / (la * la);
+        Pb[3 * i + j] = ((i == j) ? 1.0 : 0.0) - b[i] * b[j] / (lb * lb);
+      }
+    for (PetscInt i = 0; i < 3; i++)
+      for (PetscInt j = 0; j < 3; j++) {
+        PetscReal papb = 0;
+        for (PetscInt m = 0; m < 3; m++) papb += Pa[3 * i + m] * Pb[3 * m + j];
+        He[6 * i + j]           = angle->k * angle->cos0 * Pa[3 * i + j] / (la * la);
+        He[6 * (3 + i) + 3 + j] = angle->k * angle->cos0 * Pb[3 * i + j] / (lb * lb);
+        He[6 * i + 3 + j]       = -angle->k * angle->cos0 * papb / (la * lb);
+        He[6 * (3 + j) + i]     = He[6 * i + 3 + j];
+      }
+  } else {
+    const PetscReal sc = PetscMax(s, sin_floor), w = angle->k * PetscMax(c * angle->cos0 + s * angle->sin0, 0.0) / (sc * sc);
+    const PetscReal torque = angle->k * (s * angle->cos0 - c * angle->sin0); /* dE/dtheta = k sin(theta - theta0) */
+
+    for (PetscInt r = 0; r < 6; r++)
+      for (PetscInt q = 0; q < 6; q++) He[6 * r + q] = w * g[r] * g[q];
+    if (torque > 0 && s >= sin_floor) { /* bent beyond rest: out of the arms' plane theta grows as (1/theta) u u^T */
+      const PetscReal la = PetscSqrtReal(Dot3(a, a)), lb = PetscSqrtReal(Dot3(b, b));
+      PetscReal       n[3], u[6];
+
+      Cross3(a, b, n);
+      for (PetscInt i = 0; i < 3; i++) {
+        u[i]     = n[i] / (la * la * lb * s); /* unit normal / |a| */
+        u[3 + i] = -n[i] / (la * lb * lb * s);
+      }
+      for (PetscInt r = 0; r < 6; r++)
+        for (PetscInt q = 0; q < 6; q++) He[6 * r + q] += torque / s * u[r] * u[q];
+    }
+  }
+}
+
+PetscErrorCode ClothAngleEvaluate(const ClothAngle *angle, const PetscReal *const x[], ClothStiffness form, PetscReal *energy, PetscReal force[], PetscReal H[])
 {
   const PetscInt np = ClothAngleParticleCount(angle->kind), n = 3 * np;
   PetscReal      A[CLOTH_ANGLE_MAX_PARTICLES], B[CLOTH_ANGLE_MAX_PARTICLES], a[3], b[3], c, s, g[6], Hc[36];
@@ -173,7 +227,7 @@ PetscErrorCode ClothAngleEvaluate(const ClothAngle *angle, const PetscReal *cons
 
   PetscFunctionBeginUser;
   if (angle->kind == CLOTH_ANGLE_TWIST) {
-    PetscCall(TwistEvaluate(angle, x, psd, energy, force, H));
+    PetscCall(TwistEvaluate(angle, x, form, energy, force, H));
     PetscFunctionReturn(PETSC_SUCCESS);
   }
   AngleArmVectors(angle, x, A, B, a, b);
@@ -194,14 +248,17 @@ PetscErrorCode ClothAngleEvaluate(const ClothAngle *angle, const PetscReal *cons
       for (PetscInt i = 0; i < 3; i++) force[3 * k + i] = -dEdc * (A[k] * g[i] + B[k] * g[3 + i]);
   }
   if (H) {
-    PetscReal He[36]; /* Hessian w.r.t. (a, b) */
-    for (PetscInt r = 0; r < 6; r++)
-      for (PetscInt q = 0; q < 6; q++) He[6 * r + q] = d2Edc2 * g[r] * g[q] + dEdc * Hc[6 * r + q];
+    PetscReal He[36]; /* stiffness w.r.t. (a, b) */
+    if (form == CLOTH_STIFFNESS_GAUSS_NEWTON)
+      AngleGaussNewton(angle, a, b, c, s, g, sin_floor, He);
+    else
+      for (PetscInt r = 0; r < 6; r++)
+        for (PetscInt q = 0; q < 6; q++) He[6 * r + q] = d2Edc2 * g[r] * g[q] + dEdc * Hc[6 * r + q];
     for (PetscInt k = 0; k < np; k++)
       for (PetscInt l = 0; l < np; l++)
         for (PetscInt i = 0; i < 3; i++)
           for (PetscInt j = 0; j < 3; j++) H[n * (3 * k + i) + 3 * l + j] = A[k] * A[l] * He[6 * i + j] + A[k] * B[l] * He[6 * i + 3 + j] + B[k] * A[l] * He[6 * (3 + i) + j] + B[k] * B[l] * He[6 * (3 + i) + 3 + j];
-    if (psd) PetscCall(ClothProjectPSD(n, H));
+    if (form == CLOTH_STIFFNESS_PROJECTED) PetscCall(ClothProjectPSD(n, H));
   }
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -62,6 +62,16 @@ typedef struct {
    compressive transverse term is dropped), as the implicit system needs. Any output may be NULL. */
 PetscErrorCode ClothLinkEvaluate(const ClothLink *link, const PetscReal x0[3], const PetscReal x1[3], PetscBool psd, PetscReal *energy, PetscReal force1[3], PetscReal K[9]);
 
+/* The stiffness an angle spring or twist element gives the implicit system.
+   EXACT: the Hessian of its energy (indefinite away from rest: for tests and finite-difference checks).
+   PROJECTED: the exact Hessian projected onto the positive semidefinite cone (an eigen-decomposition per element).
+   GAUSS_NEWTON: the Gauss-Newton form J^T E'' J of the energy written as a function of a residual (the unit-arm
+   difference for a straight-rest thread, the angle theta otherwise, T for the twist): positive semidefinite by
+   construction, equal to the exact Hessian at rest, in closed form (no eigen-decomposition). */
+typedef enum { CLOTH_STIFFNESS_EXACT, CLOTH_STIFFNESS_PROJECTED, CLOTH_STIFFNESS_GAUSS_NEWTON } ClothStiffness;
+
+extern const char *const ClothStiffnessTypes[];
+
 /* Number of particles of an angle spring of this kind (3 or 4). */
 PetscInt ClothAngleParticleCount(ClothAngleKind kind);
 /* The arms of an angle spring as weights of its particles: arm a = sum_k A[k] x[p[k]], b = sum_k B[k] x[p[k]]
@@ -69,9 +79,9 @@ PetscInt ClothAngleParticleCount(ClothAngleKind kind);
 void ClothAngleArms(ClothAngleKind kind, PetscReal A[CLOTH_ANGLE_MAX_PARTICLES], PetscReal B[CLOTH_ANGLE_MAX_PARTICLES]);
 
 /* Energy of an angle spring at positions x[k] of its np = ClothAngleParticleCount particles; forces on
-   them (np x 3, row per particle); its 3np x 3np Hessian (row-major, particle-major). With psd, the
-   Hessian is projected onto the positive semidefinite cone (eigenvalues clamped at 0). Any output may be NULL. */
-PetscErrorCode ClothAngleEvaluate(const ClothAngle *angle, const PetscReal *const x[], PetscBool psd, PetscReal *energy, PetscReal force[], PetscReal H[]);
+   them (np x 3, row per particle); its 3np x 3np stiffness (row-major, particle-major) in the given form. Any output
+   may be NULL. */
+PetscErrorCode ClothAngleEvaluate(const ClothAngle *angle, const PetscReal *const x[], ClothStiffness form, PetscReal *energy, PetscReal force[], PetscReal H[]);
 
 /* The slider of a friction element (slip > 0) at positions x[k]: where the arms' angle theta has moved more
    than slip from the rest angle, the rest angle follows to theta -+ slip, so that the moment

@@ -1,11 +1,18 @@
 /* ClothIntegrator (see integrator.h). */
 #include "integrator.h"
+#include "preconditioner.h"
 #include "selfcontact.h"
 #include "log.h"
+
+/* Krylov iteration caps: the default solver needs tens of iterations (hundreds without a multilevel
+   preconditioner); the fallback, point-block Jacobi CG, up to a few thousand on the largest sheets. */
+#define CLOTH_KRYLOV_MAX_IT 2000
+#define CLOTH_FALLBACK_KRYLOV_MAX_IT 10000
 
 typedef PetscErrorCode (*ClothStepFunction)(ClothIntegrator, PetscReal, PetscBool *, PetscInt *);
 
 struct _n_ClothIntegrator {
+  MPI_Comm          comm; /* the cloth's */
   Cloth             cloth;
   char              type[CLOTH_NAME_LEN];
   ClothStepFunction step;
@@ -15,10 +22,13 @@ struct _n_ClothIntegrator {
   Vec               force, saved_position, saved_velocity, start_position, start_velocity;
   ClothCollision    collision; /* borrowed; NULL: no bodies */
   /* implicit only */
-  Mat      A;
-  KSP      ksp, fallback_ksp; /* fallback_ksp: redoes the solves whose preconditioner breaks down */
-  Vec      rhs, dv, dv_guess;
-  PetscInt pc_fallbacks; /* solves redone with fallback_ksp */
+  Mat                 A;
+  KSP                 ksp, fallback_ksp; /* fallback_ksp: redoes the solves whose preconditioner breaks down */
+  ClothPreconditioner pre;               /* keeps ksp's preconditioner between steps */
+  Vec                 rhs, dv, dv_guess;
+  PetscInt            pc_fallbacks; /* solves redone with fallback_ksp */
+  char                failure[256]; /* why the last failed (sub-)step failed */
+  PetscInt            pc_retries;   /* solves redone after a rebuild of a preconditioner kept from earlier steps */
 };
 
 /* Is every entry of v finite? Collective. */
@@ -120,44 +130,92 @@ static PetscErrorCode CreateFallbackKSP(ClothIntegrator integ)
   PetscBool sbaij;
 
   PetscFunctionBeginUser;
-  PetscCall(KSPCreate(PETSC_COMM_WORLD, &integ->fallback_ksp));
+  PetscCall(KSPCreate(integ->comm, &integ->fallback_ksp));
   PetscCall(KSPSetOptionsPrefix(integ->fallback_ksp, "fallback_"));
   PetscCall(KSPSetType(integ->fallback_ksp, KSPCG));
   PetscCall(KSPGetPC(integ->fallback_ksp, &pc));
   PetscCall(PetscObjectTypeCompareAny((PetscObject)integ->A, &sbaij, MATSBAIJ, MATSEQSBAIJ, MATMPISBAIJ, ""));
   PetscCall(PCSetType(pc, sbaij ? PCJACOBI : PCPBJACOBI));
-  PetscCall(KSPSetTolerances(integ->fallback_ksp, PETSC_DEFAULT, 1e-50, PETSC_DEFAULT, 10000));
+  PetscCall(KSPSetTolerances(integ->fallback_ksp, PETSC_DEFAULT, 1e-50, PETSC_DEFAULT, CLOTH_FALLBACK_KRYLOV_MAX_IT));
   PetscCall(KSPSetInitialGuessNonzero(integ->fallback_ksp, PETSC_TRUE));
   PetscCall(KSPSetFromOptions(integ->fallback_ksp));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* Solves A dv = rhs from the warm start in dv. An incomplete factorisation can break down (a non-positive
-   pivot: DIVERGED_INDEFINITE_PC) on a matrix that is itself positive definite; then the step is solved again
-   by the fallback solver rather than halved. */
-static PetscErrorCode SolveImplicitSystem(ClothIntegrator integ, KSPConvergedReason *reason, PetscInt *its)
+/* KSPSolve from the warm start in dv_guess; its iterations are added to *its. */
+static PetscErrorCode SolveFromGuess(ClothIntegrator integ, KSP ksp, KSPConvergedReason *reason, PetscInt *its)
 {
-  KSP      fallback = integ->fallback_ksp;
-  PetscInt fallback_its;
+  PetscInt n;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecCopy(integ->dv_guess, integ->dv));
+  PetscCall(KSPSolve(ksp, integ->rhs, integ->dv));
+  PetscCall(KSPGetConvergedReason(ksp, reason));
+  PetscCall(KSPGetIterationNumber(ksp, &n));
+  *its += n;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Solves A dv = rhs from the warm start in dv, A of step size h at positions x. A preconditioner lagged from earlier
+   steps may not fit a matrix that changed abruptly (a contact, a halved step): a failed solve is then redone once
+   with the preconditioner rebuilt. An incomplete factorisation can break down (a non-positive pivot:
+   DIVERGED_INDEFINITE_PC) on a matrix that is itself positive definite; then the step is solved again by the
+   fallback solver rather than halved. */
+static PetscErrorCode SolveImplicitSystem(ClothIntegrator integ, Vec x, PetscReal h, KSPConvergedReason *reason, PetscInt *its)
+{
+  ClothPCUpdate update;
+  PetscBool     kept;
+  PetscInt      last_its = 0;
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(ClothLog.solve, 0, 0, 0, 0));
+  *its = 0;
   PetscCall(VecCopy(integ->dv, integ->dv_guess));
-  PetscCall(KSPSetOperators(integ->ksp, integ->A, integ->A));
-  PetscCall(KSPSolve(integ->ksp, integ->rhs, integ->dv));
-  PetscCall(KSPGetConvergedReason(integ->ksp, reason));
-  PetscCall(KSPGetIterationNumber(integ->ksp, its));
+  PetscCall(ClothPreconditionerPrepare(integ->pre, integ->A, x, h, &update));
+  PetscCall(SolveFromGuess(integ, integ->ksp, reason, &last_its));
+  PetscCall(ClothPreconditionerIsKept(integ->pre, &kept));
+  if (*reason < 0 && kept && update != CLOTH_PC_REBUILD) {
+    PetscCall(PetscInfo(NULL, "Solve with a preconditioner of earlier steps failed (%s); rebuilding it\n", KSPConvergedReasons[*reason]));
+    *its     = last_its;
+    last_its = 0;
+    PetscCall(ClothPreconditionerRequestRebuild(integ->pre));
+    PetscCall(ClothPreconditionerPrepare(integ->pre, integ->A, x, h, NULL));
+    PetscCall(SolveFromGuess(integ, integ->ksp, reason, &last_its));
+    integ->pc_retries++;
+  }
+  *its += last_its;
+  PetscCall(ClothPreconditionerSolved(integ->pre, last_its));
   if (*reason == KSP_DIVERGED_INDEFINITE_PC || *reason == KSP_DIVERGED_PC_FAILED) {
     PetscCall(PetscInfo(NULL, "Preconditioner broke down (%s); solving again with the fallback solver\n", KSPConvergedReasons[*reason]));
-    PetscCall(VecCopy(integ->dv_guess, integ->dv));
-    PetscCall(KSPSetOperators(fallback, integ->A, integ->A));
-    PetscCall(KSPSolve(fallback, integ->rhs, integ->dv));
-    PetscCall(KSPGetConvergedReason(fallback, reason));
-    PetscCall(KSPGetIterationNumber(fallback, &fallback_its));
-    *its += fallback_its;
+    PetscCall(ClothPreconditionerRequestRebuild(integ->pre));
+    PetscCall(KSPSetOperators(integ->fallback_ksp, integ->A, integ->A));
+    PetscCall(SolveFromGuess(integ, integ->fallback_ksp, reason, its));
     integ->pc_fallbacks++;
   }
   PetscCall(PetscLogEventEnd(ClothLog.solve, 0, 0, 0, 0));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Describes a failed solve in integ->failure: the Krylov reason and, when the preconditioner failed, its reason (the
+   worst over the ranks: a zero pivot of one rank's factor fails the solve on all). */
+static PetscErrorCode DescribeFailedSolve(ClothIntegrator integ, KSPConvergedReason reason, PetscInt its)
+{
+  PC             pc;
+  PCType         type;
+  PCFailedReason local, worst;
+  int            l, w;
+
+  PetscFunctionBeginUser;
+  PetscCall(KSPGetPC(integ->ksp, &pc));
+  PetscCall(PCGetType(pc, &type));
+  PetscCall(PCGetFailedReasonRank(pc, &local));
+  l = (int)local;
+  PetscCallMPI(MPI_Allreduce(&l, &w, 1, MPI_INT, MPI_MAX, integ->comm));
+  worst = (PCFailedReason)w;
+  if (worst != PC_NOERROR)
+    PetscCall(PetscSNPrintf(integ->failure, sizeof(integ->failure), "the Krylov solve stopped with %s after %" PetscInt_FMT " iterations: preconditioner %s failed with %s", KSPConvergedReasons[reason], its, type, PCFailedReasons[worst]));
+  else
+    PetscCall(PetscSNPrintf(integ->failure, sizeof(integ->failure), "the Krylov solve stopped with %s after %" PetscInt_FMT " iterations (preconditioner %s)", KSPConvergedReasons[reason], its, type));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -170,8 +228,9 @@ static PetscErrorCode StepImplicit(ClothIntegrator integ, PetscReal h, PetscBool
   PetscFunctionBeginUser;
   PetscCall(ClothGetState(integ->cloth, &x, &v));
   PetscCall(ClothAssembleImplicitSystem(integ->cloth, h, x, v, integ->A, integ->rhs));
-  PetscCall(SolveImplicitSystem(integ, &reason, its));
+  PetscCall(SolveImplicitSystem(integ, x, h, &reason, its));
   *ok = reason > 0 ? PETSC_TRUE : PETSC_FALSE;
+  if (!*ok) PetscCall(DescribeFailedSolve(integ, reason, *its));
   if (*ok) PetscCall(VecIsFinite(integ->dv, ok));
   if (!*ok) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(VecAXPY(v, 1.0, integ->dv));
@@ -186,7 +245,8 @@ PetscErrorCode ClothIntegratorCreate(Cloth cloth, ClothIntegrator *integ)
 
   PetscFunctionBeginUser;
   PetscCall(PetscNew(&it));
-  it->cloth        = cloth;
+  it->cloth = cloth;
+  PetscCall(ClothGetComm(cloth, &it->comm));
   it->max_halvings = 6;
   PetscCall(PetscFunctionListAdd(&it->steps, "explicit", StepExplicit));
   PetscCall(PetscFunctionListAdd(&it->steps, "symplectic", StepSymplectic));
@@ -202,8 +262,8 @@ PetscErrorCode ClothIntegratorSetType(ClothIntegrator integ, const char type[])
 
   PetscFunctionBeginUser;
   PetscCall(PetscFunctionListFind(integ->steps, type, &step));
-  PetscCheck(step, PETSC_COMM_WORLD, PETSC_ERR_USER_INPUT, "Unknown integrator '%s': expected explicit, symplectic or implicit", type);
-  PetscCheck(!integ->setup, PETSC_COMM_WORLD, PETSC_ERR_ORDER, "Set the integrator type before ClothIntegratorSetUp");
+  PetscCheck(step, integ->comm, PETSC_ERR_USER_INPUT, "Unknown integrator '%s': expected explicit, symplectic or implicit", type);
+  PetscCheck(!integ->setup, integ->comm, PETSC_ERR_ORDER, "Set the integrator type before ClothIntegratorSetUp");
   integ->step = step;
   PetscCall(PetscStrncpy(integ->type, type, sizeof(integ->type)));
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -222,7 +282,7 @@ PetscErrorCode ClothIntegratorSetFromOptions(ClothIntegrator integ)
   PetscBool set;
 
   PetscFunctionBeginUser;
-  PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Time integration", "ClothIntegrator");
+  PetscOptionsBegin(integ->comm, NULL, "Time integration", "ClothIntegrator");
   PetscCall(PetscOptionsFList("-integrator", "Time integrator", "ClothIntegratorSetType", integ->steps, integ->type, type, sizeof(type), &set));
   if (set) PetscCall(ClothIntegratorSetType(integ, type));
   PetscCall(PetscOptionsInt("-integrator_max_halvings", "How many times a failing step may be halved before the run stops", "ClothIntegratorStep", integ->max_halvings, &integ->max_halvings, NULL));
@@ -230,32 +290,30 @@ PetscErrorCode ClothIntegratorSetFromOptions(ClothIntegrator integ)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* The implicit solver, chosen by measurement (docs/performance.md): CG (the system is symmetric positive
-   definite) preconditioned by point-block Jacobi (the inverse of each particle's 3x3 diagonal block), to
-   PETSc's default relative tolerance 1e-5 (as the Taichi peer). It is the default because it is robust on
-   every scene and does not depend on the partition (the same iterates on any number of ranks, so runs and
-   restarts agree across rank counts to rounding). For large smooth sheets, SBAIJ + block Jacobi/ICC(0)
-   (-implicit_mat_type sbaij -pc_type bjacobi) needs 3-4x fewer iterations and is up to 2x faster at
-   257 x 257, but its iterates depend on the partition, and contact scenes, where a particle is held or
-   released on a threshold, then end in visibly different states. ICC(0) can break down on large steps (a
-   non-positive pivot although the matrix is positive definite); such solves are redone by the fallback
-   solver (SolveImplicitSystem). Every -ksp_, -pc_, -fallback_ and -implicit_mat_type option overrides. */
+/* The implicit solver, chosen by measurement (docs/performance.md): CG (the system is symmetric positive definite)
+   to PETSc's default relative tolerance 1e-5 (as the Taichi peer), preconditioned by point-block Jacobi on small
+   systems and by smoothed-aggregation multigrid (GAMG, kept between steps: preconditioner.h) on large ones, whose
+   iteration count stays flat as the sheet grows where point-block Jacobi's grows with the particles per side (147,
+   293, 537 at 65, 129, 257). Point-block Jacobi's iterates do not depend on the partition (runs and restarts agree
+   across rank counts to rounding); GAMG's aggregates do, so different rank counts agree to the solver tolerance.
+   Every -ksp_, -pc_, -mg_levels_, -fallback_ and -implicit_ option overrides. */
 static PetscErrorCode ClothIntegratorSetUpImplicit(ClothIntegrator integ)
 {
-  PC pc;
+  PetscInt nparticles;
 
   PetscFunctionBeginUser;
   PetscCall(ClothCreateMatrix(integ->cloth, &integ->A));
   PetscCall(MatCreateVecs(integ->A, &integ->dv, NULL));
   PetscCall(VecDuplicate(integ->dv, &integ->dv_guess));
   PetscCall(ClothCreateStateVec(integ->cloth, &integ->rhs));
-  PetscCall(KSPCreate(PETSC_COMM_WORLD, &integ->ksp));
+  PetscCall(KSPCreate(integ->comm, &integ->ksp));
   PetscCall(KSPSetType(integ->ksp, KSPCG));
-  PetscCall(KSPGetPC(integ->ksp, &pc));
-  PetscCall(PCSetType(pc, PCPBJACOBI));
-  PetscCall(KSPSetTolerances(integ->ksp, PETSC_DEFAULT, 1e-50, PETSC_DEFAULT, 2000));
+  PetscCall(ClothGetSizes(integ->cloth, NULL, &nparticles));
+  PetscCall(ClothPreconditionerCreate(integ->ksp, nparticles, &integ->pre));
+  PetscCall(KSPSetTolerances(integ->ksp, PETSC_DEFAULT, 1e-50, PETSC_DEFAULT, CLOTH_KRYLOV_MAX_IT));
   PetscCall(KSPSetInitialGuessNonzero(integ->ksp, PETSC_TRUE)); /* dv of the last step: a good guess */
   PetscCall(KSPSetFromOptions(integ->ksp));
+  PetscCall(ClothPreconditionerSetFromOptions(integ->pre));
   PetscCall(CreateFallbackKSP(integ)); /* at set-up, so that -help lists its -fallback_ options */
   PetscCall(VecZeroEntries(integ->dv));
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -287,7 +345,9 @@ static PetscErrorCode StepOrHalve(ClothIntegrator integ, PetscReal h, PetscInt d
   PetscCall(VecCopy(v, integ->saved_velocity));
   PetscCall(UpdateSelfContact(integ, h));
   PetscCall(ClothUpdateHysteresis(integ->cloth, x)); /* the sliders at the (sub-)step's start */
+  integ->failure[0] = 0;
   PetscCall(integ->step(integ, h, ok, &its));
+  if (!*ok && !integ->failure[0]) PetscCall(PetscSNPrintf(integ->failure, sizeof(integ->failure), "the state became non-finite (NaN or Inf)"));
   stats->krylov_iterations += its;
   stats->smallest_dt = PetscMin(stats->smallest_dt, h);
   if (*ok) {
@@ -329,7 +389,7 @@ PetscErrorCode ClothIntegratorStep(ClothIntegrator integ, PetscReal dt, PetscBoo
 PetscErrorCode ClothIntegratorGetWarmStart(ClothIntegrator integ, Vec *dv)
 {
   PetscFunctionBeginUser;
-  PetscCheck(integ->setup, PETSC_COMM_WORLD, PETSC_ERR_ORDER, "Call ClothIntegratorSetUp before ClothIntegratorGetWarmStart");
+  PetscCheck(integ->setup, integ->comm, PETSC_ERR_ORDER, "Call ClothIntegratorSetUp before ClothIntegratorGetWarmStart");
   *dv = integ->dv;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -355,6 +415,20 @@ PetscErrorCode ClothIntegratorViewSystem(ClothIntegrator integ, PetscViewer view
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+PetscErrorCode ClothIntegratorRequestPreconditionerRebuild(ClothIntegrator integ)
+{
+  PetscFunctionBeginUser;
+  if (integ->pre) PetscCall(ClothPreconditionerRequestRebuild(integ->pre));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothIntegratorGetFailure(ClothIntegrator integ, const char **why)
+{
+  PetscFunctionBeginUser;
+  *why = integ->failure[0] ? integ->failure : "no step has failed";
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode ClothIntegratorGetPCFallbacks(ClothIntegrator integ, PetscInt *count)
 {
   PetscFunctionBeginUser;
@@ -376,6 +450,8 @@ PetscErrorCode ClothIntegratorView(ClothIntegrator integ, PetscViewer viewer)
   if (integ->ksp) {
     PetscCall(PetscViewerASCIIPushTab(viewer));
     PetscCall(KSPView(integ->ksp, viewer));
+    PetscCall(ClothPreconditionerView(integ->pre, viewer));
+    if (integ->pc_retries) PetscCall(PetscViewerASCIIPrintf(viewer, "Solves redone with a rebuilt preconditioner after one kept from earlier steps failed: %" PetscInt_FMT "\n", integ->pc_retries));
     PetscCall(PetscViewerASCIIPopTab(viewer));
   }
   if (integ->pc_fallbacks) {
@@ -402,6 +478,7 @@ PetscErrorCode ClothIntegratorDestroy(ClothIntegrator *integ)
   PetscCall(MatDestroy(&it->A));
   PetscCall(KSPDestroy(&it->ksp));
   PetscCall(KSPDestroy(&it->fallback_ksp));
+  PetscCall(ClothPreconditionerDestroy(&it->pre));
   PetscCall(VecDestroy(&it->dv_guess));
   PetscCall(VecDestroy(&it->rhs));
   PetscCall(VecDestroy(&it->dv));

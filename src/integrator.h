@@ -34,6 +34,11 @@ PetscErrorCode ClothIntegratorGetWarmStart(ClothIntegrator integ, Vec *dv);
 /* One line on the implicit system: matrix type, stored blocks and their memory, preconditioner (nothing for
    explicit integrators). */
 PetscErrorCode ClothIntegratorViewSystem(ClothIntegrator integ, PetscViewer viewer);
+/* The next implicit step rebuilds its preconditioner from scratch, as a run restarted at this point would: called
+   after every checkpoint, so that a restart continues bit for bit. */
+PetscErrorCode ClothIntegratorRequestPreconditionerRebuild(ClothIntegrator integ);
+/* Why the last failed sub-step failed (the Krylov and preconditioner reasons, or a non-finite state), for messages. */
+PetscErrorCode ClothIntegratorGetFailure(ClothIntegrator integ, const char **why);
 /* How many implicit solves were redone by the fallback solver (prefix fallback_) after a preconditioner breakdown. */
 PetscErrorCode ClothIntegratorGetPCFallbacks(ClothIntegrator integ, PetscInt *count);
 /* Resolves contacts with the scene's bodies after every successful sub-step (collision borrowed; NULL: none). */

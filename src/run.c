@@ -409,6 +409,7 @@ static PetscErrorCode ClothRunWriteCheckpoint(ClothRun run)
   PetscCall(ClothRunCheckpointFields(run, dv ? PETSC_TRUE : PETSC_FALSE, fields, &nfields));
   PetscCall(ClothRunFillCheckpointInfo(run, &info));
   PetscCall(ClothCheckpointWrite(run->comm, run->output_dir, &info, nfields, fields, run->checkpoint_keep, run->last_checkpoint, sizeof(run->last_checkpoint)));
+  PetscCall(ClothIntegratorRequestPreconditionerRebuild(run->integrator)); /* as a restart from this checkpoint */
   PetscCall(PetscLogEventEnd(ClothLog.checkpoint, 0, 0, 0, 0));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -465,6 +466,7 @@ PetscErrorCode ClothRunSolve(ClothRun run)
   int            print;
   ClothStepStats stats = {0, 0, run->dt};
   PetscInt       fallbacks;
+  const char    *failure = "";
 
   PetscFunctionBeginUser;
   PetscCall(PetscPrintf(run->comm, "Running %s: %" PetscInt_FMT " steps of %g s from step %" PetscInt_FMT "; output in %s\n", run->scene->name, run->steps, (double)run->dt, run->step, run->output_dir));
@@ -495,8 +497,9 @@ PetscErrorCode ClothRunSolve(ClothRun run)
   }
   PetscCall(PetscLogStagePop());
   PetscCall(ClothRunWriteCheckpoint(run));
-  PetscCheck(ok, run->comm, PETSC_ERR_NOT_CONVERGED, "Step %" PetscInt_FMT " failed (Krylov solver diverged or the state became non-finite) even with the step halved down to %g s; the last good state (step %" PetscInt_FMT ") is in %s", run->step + 1,
-             (double)stats.smallest_dt, run->step, run->last_checkpoint);
+  if (!ok) PetscCall(ClothIntegratorGetFailure(run->integrator, &failure));
+  PetscCheck(ok, run->comm, PETSC_ERR_NOT_CONVERGED, "Step %" PetscInt_FMT " failed even with the step halved down to %g s (%s); the last good state (step %" PetscInt_FMT ") is in %s", run->step + 1, (double)stats.smallest_dt, failure, run->step,
+             run->last_checkpoint);
   if (stop)
     PetscCall(PetscPrintf(run->comm, "Stopped by %s at step %" PetscInt_FMT " of %" PetscInt_FMT " (t = %g s) after finishing the step; the state is in %s: continue with -restart %s\n", termination_requested == SIGUSR1 ? "SIGUSR1" : "SIGTERM",
                           run->step, run->steps, (double)run->time, run->last_checkpoint, run->last_checkpoint));

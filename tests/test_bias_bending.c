@@ -48,7 +48,7 @@ static PetscErrorCode MeasureBendingRigidity(ClothModel model, PetscInt offset, 
       for (PetscInt d = 0; d < 2; d++) centre[d] += flat[3 * (angle->p[k] - offset) + d] / np;
     }
     if (PetscAbsReal(centre[0] - c[0]) > half || PetscAbsReal(centre[1] - c[1]) > half) continue;
-    PetscCall(ClothAngleEvaluate(angle, xs, PETSC_FALSE, &e, NULL, NULL));
+    PetscCall(ClothAngleEvaluate(angle, xs, CLOTH_STIFFNESS_EXACT, &e, NULL, NULL));
     energy[kind] += e;
     count[kind]++;
   }

@@ -92,7 +92,7 @@ static PetscErrorCode LoopResponse(ClothModel model, LoopKind kind, Specimen *sp
     if (!LoopElement(angle, kind, sp)) continue;
     for (PetscInt k = 0; k < np; k++) xs[k] = &sp->x[3 * (angle->p[k] - sp->offset)];
     if (angle->slip > 0) ClothAngleSlide(angle, xs);
-    PetscCall(ClothAngleEvaluate(angle, xs, PETSC_FALSE, NULL, force, NULL));
+    PetscCall(ClothAngleEvaluate(angle, xs, CLOTH_STIFFNESS_EXACT, NULL, force, NULL));
     for (PetscInt k = 0; k < np; k++)
       for (PetscInt c = 0; c < 3; c++) dedp -= force[3 * k + c] * sp->dxdp[3 * (angle->p[k] - sp->offset) + c];
   }

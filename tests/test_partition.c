@@ -88,11 +88,11 @@ static PetscErrorCode SerialForces(ClothModel model, const PetscReal gravity[3],
   }
   for (PetscInt a = 0; a < model->nangles; a++) {
     const ClothAngle *angle = &model->angles[a];
-    const PetscInt    np = ClothAngleParticleCount(angle->kind);
+    const PetscInt    np    = ClothAngleParticleCount(angle->kind);
     const PetscReal  *xs[CLOTH_ANGLE_MAX_PARTICLES];
     PetscReal         e, fa[3 * CLOTH_ANGLE_MAX_PARTICLES];
     for (PetscInt k = 0; k < np; k++) xs[k] = &x[3 * angle->p[k]];
-    PetscCall(ClothAngleEvaluate(angle, xs, PETSC_TRUE, &e, fa, NULL));
+    PetscCall(ClothAngleEvaluate(angle, xs, CLOTH_STIFFNESS_GAUSS_NEWTON, &e, fa, NULL));
     for (PetscInt k = 0; k < np; k++)
       for (PetscInt c = 0; c < 3; c++) f[3 * angle->p[k] + c] += fa[3 * k + c];
     *energy += e;

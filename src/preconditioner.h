@@ -1,0 +1,50 @@
+/* ClothPreconditioner: keeps the implicit solve's preconditioner up to date at the least cost.
+
+   The default preconditioner of large systems is smoothed-aggregation multigrid (PCGAMG): its Krylov iteration count
+   does not grow with the sheet's size, as point-block Jacobi's does (docs/performance.md). Its set-up costs several
+   solves, so not all of it is redone every step:
+
+   - lag:     the preconditioner of an earlier step is used as it is (the operator itself is always current);
+   - refresh: the coarse operators (Galerkin products), smoothers and point-block diagonals are recomputed from
+              the current matrix, the aggregates and interpolation are kept;
+   - rebuild: everything (with -implicit_pc_rigid_body_modes, the rigid-body modes at the current positions as the
+              near-null space; by default the three translations).
+
+   Which one is decided by the iteration count: with -implicit_pc_lag_ratio r > 0 a step refreshes when the last solve
+   took more than r times the iterations of the first solve after the last refresh (by default, r = 0, every step
+   refreshes: measured faster, see SetFromOptions); a refresh is followed by a rebuild when its solve took more than
+   -implicit_pc_rebuild_ratio times the iterations after the last rebuild (the sheet has moved so far that the
+   aggregates no longer fit). A new matrix (new nonzero pattern) and
+   ClothPreconditionerRequestRebuild force a rebuild, a change of the step size (a halved step) a refresh.
+   GAMG needs a scalar (AIJ) matrix; when the implicit matrix is BAIJ or SBAIJ, the preconditioner is built from
+   an AIJ copy made only when it is refreshed or rebuilt, while the Krylov method and the finest smoother stream
+   the block matrix itself (PCSetUseAmat) when the preconditioner is refreshed every step.
+
+   Preconditioners without a set-up worth saving (point-block Jacobi, ICC, ...) are set up every step, as before. */
+#pragma once
+#include <petscksp.h>
+#include "util.h"
+
+typedef struct _n_ClothPreconditioner *ClothPreconditioner;
+
+/* What ClothPreconditionerPrepare did to the preconditioner (in increasing cost). */
+typedef enum { CLOTH_PC_LAG, CLOTH_PC_REFRESH, CLOTH_PC_REBUILD } ClothPCUpdate;
+
+/* Manages the preconditioner of ksp (borrowed) for a system of nparticles particles. Call before
+   KSPSetFromOptions(ksp): it sets the default preconditioner, GAMG for large systems (-implicit_pc_multilevel_min_particles),
+   point-block Jacobi for small ones, where a multilevel set-up costs more than it saves. */
+PetscErrorCode ClothPreconditionerCreate(KSP ksp, PetscInt nparticles, ClothPreconditioner *pre);
+/* -implicit_pc_lag_ratio; call after KSPSetFromOptions(ksp), when the preconditioner type is known. */
+PetscErrorCode ClothPreconditionerSetFromOptions(ClothPreconditioner pre);
+/* Before a solve with A at step size h and particle positions x (solver numbering, block size 3 layout of A):
+   sets the operators of the KSP and lags, refreshes or rebuilds its preconditioner. */
+PetscErrorCode ClothPreconditionerPrepare(ClothPreconditioner pre, Mat A, Vec x, PetscReal h, ClothPCUpdate *update);
+/* After a solve that took its iterations: decides what the next Prepare does. */
+PetscErrorCode ClothPreconditionerSolved(ClothPreconditioner pre, PetscInt its);
+/* The next Prepare rebuilds everything (after a failed solve; at a checkpoint, so that a restart from it sees the
+   same preconditioner as the run that continued, bit for bit). */
+PetscErrorCode ClothPreconditionerRequestRebuild(ClothPreconditioner pre);
+/* Whether the preconditioner is kept between steps (a multilevel one) at all. */
+PetscErrorCode ClothPreconditionerIsKept(ClothPreconditioner pre, PetscBool *kept);
+PetscErrorCode ClothPreconditionerView(ClothPreconditioner pre, PetscViewer viewer);
+PetscErrorCode ClothPreconditionerDestroy(ClothPreconditioner *pre);
