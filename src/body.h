@@ -31,8 +31,6 @@ PetscErrorCode BodyIsInside(Body body, const PetscReal x[3], PetscBool *inside);
 /* The surface point nearest to x and the unit outward normal there (mesh: the face normal of the nearest
    triangle; a search over all triangles, meant for the few particles found inside). */
 PetscErrorCode BodyNearestSurfacePoint(Body body, const PetscReal x[3], PetscReal point[3], PetscReal normal[3]);
-/* The point q of triangle (a, b, c) nearest to x (Ericson, Real-Time Collision Detection, 5.1.5). */
-void BodyTriangleNearestPoint(const PetscReal x[3], const PetscReal a[3], const PetscReal b[3], const PetscReal c[3], PetscReal q[3]);
 /* Prints the type, placement and, for meshes, the triangle count, box and boundary-edge count. */
 PetscErrorCode BodyView(Body body, PetscViewer viewer);
 PetscErrorCode BodyDestroy(Body *body);
