@@ -24,11 +24,6 @@ PetscBool CellGridHasCells(CellGrid grid)
   return grid->n[0] > 0 ? PETSC_TRUE : PETSC_FALSE;
 }
 
-PetscReal CellGridGetCellSize(CellGrid grid)
-{
-  return grid->h;
-}
-
 void CellGridGetCells(CellGrid grid, PetscInt n[3], const PetscInt **start, const PetscInt **items)
 {
   for (PetscInt k = 0; k < 3; k++) n[k] = grid->n[k];

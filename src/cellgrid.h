@@ -29,8 +29,6 @@ PetscErrorCode CellGridCreate(CellGrid *grid);
 PetscErrorCode CellGridBuild(CellGrid grid, const PetscReal lo[3], const PetscReal hi[3], PetscReal cell_size, PetscInt max_cells, PetscInt nitems, const PetscReal item_lo[], const PetscReal item_hi[], PetscInt stride);
 /* Whether the last build gave cells (false before the first build and for an empty box). */
 PetscBool CellGridHasCells(CellGrid grid);
-/* The cell edge of the last build (cell_size, or larger when the cap on cells grew it). */
-PetscReal CellGridGetCellSize(CellGrid grid);
 /* The cells per axis n, the rows start (n0 n1 n2 + 1 entries: cell c lists items[start[c] .. start[c+1]))
    and the items; borrowed, valid until the next build. Cell (i, j, k) is c = (i n1 + j) n2 + k
    (CellGridCellIndex). */

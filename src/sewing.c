@@ -2,7 +2,8 @@
 #include "sewing.h"
 #include "seam.h"
 
-#define SEAM_BAND 2 /* grid rows around a seam where cloth-cloth contact is not applied while it is pulled closed */
+#define SEAM_BAND 2         /* grid rows around a seam where cloth-cloth contact is not applied while it is pulled closed */
+#define SEWING_MAX_SEAMS 64 /* seams of a scene: each is one bit of the uint64_t masks near and near_joined */
 
 const char *const ClothSewingPhases[] = {"pull", "settle", "ClothSewingPhase", "CLOTH_SEWING_", NULL};
 
@@ -11,12 +12,12 @@ struct _n_ClothSewing {
   Scene            scene; /* seam names */
   SceneSewing      params;
   ClothSewingPhase phase;
-  PetscInt         nlinks;          /* seam links of the whole model */
-  PetscInt        *sewn;            /* per model seam link: 1 once sewn; the same on every rank */
-  PetscInt        *closed;          /* work: links this rank found closed in the last step */
-  uint64_t        *near;            /* per particle (natural): bit s set within SEAM_BAND rows of seam s */
-  uint64_t        *near_joined;     /* per particle: near, plus every seam sharing a particle with one of those */
-  PetscInt        *partner_offset;  /* CSR per particle (natural): the particles a seam link joins it to */
+  PetscInt         nlinks;         /* seam links of the whole model */
+  PetscInt        *sewn;           /* per model seam link: 1 once sewn; the same on every rank */
+  PetscInt        *closed;         /* work: links this rank found closed in the last step */
+  uint64_t        *near;           /* per particle (natural): bit s set within SEAM_BAND rows of seam s */
+  uint64_t        *near_joined;    /* per particle: near, plus every seam sharing a particle with one of those */
+  PetscInt        *partner_offset; /* CSR per particle (natural): the particles a seam link joins it to */
   PetscInt        *partner;
   PetscReal        max_time;
 };
@@ -25,11 +26,11 @@ struct _n_ClothSewing {
 static PetscErrorCode ClothSewingMarkSeamBands(ClothSewing s, Scene scene, ClothModel model)
 {
   PetscFunctionBeginUser;
-  PetscCheck(scene->nseams <= 64, PETSC_COMM_WORLD, PETSC_ERR_SUP, "At most 64 seams are supported, the scene has %" PetscInt_FMT, scene->nseams);
+  PetscCheck(scene->nseams <= SEWING_MAX_SEAMS, PETSC_COMM_WORLD, PETSC_ERR_SUP, "At most %d seams are supported, the scene has %" PetscInt_FMT, SEWING_MAX_SEAMS, scene->nseams);
   PetscCall(PetscCalloc1(model->nparticles, &s->near));
   for (PetscInt l = 0; l < model->nseamlinks; l++)
     for (PetscInt k = 0; k < model->seamlinks[l].np; k++) {
-      const PetscInt g = model->seamlinks[l].p[k];
+      const PetscInt g     = model->seamlinks[l].p[k];
       PetscInt       piece = 0;
       while (model->piece_offset[piece + 1] <= g) piece++;
       {
@@ -48,19 +49,19 @@ static PetscErrorCode ClothSewingMarkSeamBands(ClothSewing s, Scene scene, Cloth
    does not repel one near a seam that shares a particle with s. */
 static PetscErrorCode ClothSewingMarkJoinedBands(ClothSewing s, ClothModel model)
 {
-  uint64_t *seams_of, joined[64];
+  uint64_t *seams_of, joined[SEWING_MAX_SEAMS];
 
   PetscFunctionBeginUser;
   PetscCall(PetscCalloc1(model->nparticles, &seams_of));
   for (PetscInt l = 0; l < model->nseamlinks; l++)
     for (PetscInt k = 0; k < model->seamlinks[l].np; k++) seams_of[model->seamlinks[l].p[k]] |= (uint64_t)1 << model->seamlinks[l].seam;
-  for (PetscInt b = 0; b < 64; b++) joined[b] = (uint64_t)1 << b;
+  for (PetscInt b = 0; b < SEWING_MAX_SEAMS; b++) joined[b] = (uint64_t)1 << b;
   for (PetscInt g = 0; g < model->nparticles; g++)
-    for (PetscInt b = 0; b < 64; b++)
+    for (PetscInt b = 0; b < SEWING_MAX_SEAMS; b++)
       if (seams_of[g] >> b & 1) joined[b] |= seams_of[g];
   PetscCall(PetscCalloc1(model->nparticles, &s->near_joined));
   for (PetscInt g = 0; g < model->nparticles; g++)
-    for (PetscInt b = 0; b < 64; b++)
+    for (PetscInt b = 0; b < SEWING_MAX_SEAMS; b++)
       if (s->near[g] >> b & 1) s->near_joined[g] |= joined[b];
   PetscCall(PetscFree(seams_of));
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -86,7 +87,7 @@ static PetscErrorCode ClothSewingBuildPartners(ClothSewing s, ClothModel model)
     const ClothSeamLink *link = &model->seamlinks[l];
     const PetscInt       a    = link->p[0];
     for (PetscInt k = 1; k < link->np; k++) {
-      const PetscInt b = link->p[k];
+      const PetscInt b                              = link->p[k];
       s->partner[s->partner_offset[a] + count[a]++] = b;
       s->partner[s->partner_offset[b] + count[b]++] = a;
     }
@@ -150,10 +151,10 @@ PetscErrorCode ClothSewingSetFromOptions(ClothSewing sewing)
 /* Seam stiffnesses and gravity for the current phase and sewn set. */
 static PetscErrorCode ClothSewingApply(ClothSewing sewing)
 {
-  ClothModel       model;
-  ClothSeamLink   *links;
-  const PetscInt  *model_index;
-  PetscInt         n;
+  ClothModel      model;
+  ClothSeamLink  *links;
+  const PetscInt *model_index;
+  PetscInt        n;
 
   PetscFunctionBeginUser;
   PetscCall(ClothGetModel(sewing->cloth, &model));
@@ -227,7 +228,8 @@ PetscErrorCode ClothSewingUpdate(ClothSewing sewing, PetscReal time)
     PetscCall(PetscPrintf(PETSC_COMM_WORLD, "Sewing: all %" PetscInt_FMT " seam pairs sewn at t = %.4f s; gravity on\n", sewing->nlinks, (double)time));
   } else if (time >= sewing->max_time) {
     sewing->phase = CLOTH_SEWING_SETTLE;
-    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "WARNING: sewing time %.3f s reached with %" PetscInt_FMT " of %" PetscInt_FMT " seam pairs open (widest gap %.4f m); gravity on, the open pairs keep pulling\n", (double)time, sewing->nlinks - nsewn, sewing->nlinks, (double)max_gap));
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "WARNING: sewing time %.3f s reached with %" PetscInt_FMT " of %" PetscInt_FMT " seam pairs open (widest gap %.4f m); gravity on, the open pairs keep pulling\n", (double)time, sewing->nlinks - nsewn,
+                          sewing->nlinks, (double)max_gap));
   }
   PetscCall(ClothSewingApply(sewing));
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -280,8 +282,10 @@ PetscErrorCode ClothSewingViewWidest(ClothSewing sewing, PetscInt n)
       if (gap[l] > gap[widest]) widest = l;
     link = &model->seamlinks[widest];
     for (PetscInt k = 0; k < link->np; k++) PetscCall(ClothGetParticleName(sewing->cloth, link->p[k], name[k], sizeof(name[k])));
-    if (link->np == 2) PetscCall(PetscPrintf(PETSC_COMM_WORLD, "  %6.2f mm  %s: %s - %s\n", (double)(1e3 * gap[widest]), sewing->scene->seams[link->seam].name, name[0], name[1]));
-    else PetscCall(PetscPrintf(PETSC_COMM_WORLD, "  %6.2f mm  %s: %s - %.2f %s + %.2f %s\n", (double)(1e3 * gap[widest]), sewing->scene->seams[link->seam].name, name[0], (double)-link->c[1], name[1], (double)-link->c[2], name[2]));
+    if (link->np == 2)
+      PetscCall(PetscPrintf(PETSC_COMM_WORLD, "  %6.2f mm  %s: %s - %s\n", (double)(1e3 * gap[widest]), sewing->scene->seams[link->seam].name, name[0], name[1]));
+    else
+      PetscCall(PetscPrintf(PETSC_COMM_WORLD, "  %6.2f mm  %s: %s - %.2f %s + %.2f %s\n", (double)(1e3 * gap[widest]), sewing->scene->seams[link->seam].name, name[0], (double)-link->c[1], name[1], (double)-link->c[2], name[2]));
     gap[widest] = -1;
   }
   PetscCall(PetscFree(gap));
