@@ -122,5 +122,7 @@ PetscErrorCode ClothGetLocalPositionArray(Cloth cloth, const PetscScalar **x);
 PetscErrorCode ClothRestoreLocalPositionArray(Cloth cloth, const PetscScalar **x);
 /* The global model (every rank holds it; read-only): topology for output, counts. */
 PetscErrorCode ClothGetModel(Cloth cloth, ClothModel *model);
+/* The communicator the cloth lives on (the one given to ClothCreate): the objects built on the cloth use it. */
+PetscErrorCode ClothGetComm(Cloth cloth, MPI_Comm *comm);
 /* Names natural particle g as "piece (i, j)": its piece and grid node, for diagnostics. Not collective. */
 PetscErrorCode ClothGetParticleName(Cloth cloth, PetscInt g, char name[], size_t len);
