@@ -1,4 +1,4 @@
-/* Body: a rigid obstacle the cloth collides with (MODEL.md section 6): an analytic sphere or plane, or a
+/* Body: a rigid obstacle the cloth collides with (docs/model.md section 6): an analytic sphere or plane, or a
    triangle mesh read from an OBJ file (the mannequin), placed by the scene's scale, rotation and translation.
 
    Mesh triangles are oriented so that their normals (b - a) x (c - a) point out of the body (the orientation

@@ -60,7 +60,7 @@ typedef enum {
 PetscErrorCode ClothHysteresisCreateStateVec(Cloth cloth, ClothSliderFamily family, Vec *state);
 PetscErrorCode ClothHysteresisGetState(Cloth cloth, ClothSliderFamily family, Vec state);
 PetscErrorCode ClothHysteresisSetState(Cloth cloth, ClothSliderFamily family, Vec state);
-/* The linearised backward Euler system of MODEL.md section 5, filtered by the constraints:
+/* The linearised backward Euler system of docs/model.md section 5, filtered by the constraints:
    A = S (M + h C + h^2 K) S + (I - S) and rhs = S h (F - h K v), K the positive semidefinite part of
    the stiffness. A must come from ClothCreateMatrix. Collective. */
 PetscErrorCode ClothAssembleImplicitSystem(Cloth cloth, PetscReal h, Vec position, Vec velocity, Mat A, Vec rhs);

@@ -931,7 +931,7 @@ static PetscErrorCode CheckBoundaryCorners(SceneReader *r, yaml_node_t *node, co
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* boundaries: {bottom, right, top, left: polylines or arcs, nodes: [bottom, right, top, left]} (MODEL.md section 3).
+/* boundaries: {bottom, right, top, left: polylines or arcs, nodes: [bottom, right, top, left]} (docs/model.md section 3).
    Sets *nodes_given when the node counts are given (they then set the grid). */
 static PetscErrorCode ReadBoundaries(SceneReader *r, yaml_node_t *map, ScenePiece *piece, PetscBool *nodes_given)
 {
