@@ -20,9 +20,25 @@ typedef enum {
   NEAREST_DEGENERATE /* a collapsed triangle whose face case cannot be solved */
 } NearestRegion;
 
+/* Ericson's tests for vertex V (b or c) and the edge from a to it, from the dots of the edge a V ("near") and
+   of the other edge from a ("far") with p - a (da_) and with p - V (dv_). Returns 1 when V is nearest, 2
+   when the edge a V is (*t its parameter from a), 0 otherwise; *v is the barycentric numerator of the third
+   vertex, which the face case needs. */
+static PetscInt VertexOrEdge(PetscReal da_near, PetscReal da_far, PetscReal dv_near, PetscReal dv_far, PetscReal *v, PetscReal *t)
+{
+  if (dv_near >= 0 && dv_far <= dv_near) return 1;
+  *v = da_near * dv_far - dv_near * da_far;
+  if (*v <= 0 && da_near >= 0 && dv_near <= 0) {
+    *t = da_near / (da_near - dv_near);
+    return 2;
+  }
+  return 0;
+}
+
 static NearestRegion ClassifyNearest(const PetscReal p[3], const PetscReal a[3], const PetscReal b[3], const PetscReal c[3], PetscReal *t, PetscReal v[3])
 {
   PetscReal ab[3], ac[3], ap[3], bp[3], cp[3], d1, d2, d3, d4, d5, d6;
+  PetscInt  near;
 
   for (PetscInt k = 0; k < 3; k++) {
     ab[k] = b[k] - a[k];
@@ -34,22 +50,14 @@ static NearestRegion ClassifyNearest(const PetscReal p[3], const PetscReal a[3],
   d1 = Dot3(ab, ap);
   d2 = Dot3(ac, ap);
   if (d1 <= 0 && d2 <= 0) return NEAREST_VERTEX_A;
-  d3 = Dot3(ab, bp);
-  d4 = Dot3(ac, bp);
-  if (d3 >= 0 && d4 <= d3) return NEAREST_VERTEX_B;
-  v[2] = d1 * d4 - d3 * d2;
-  if (v[2] <= 0 && d1 >= 0 && d3 <= 0) {
-    *t = d1 / (d1 - d3);
-    return NEAREST_EDGE_AB;
-  }
-  d5 = Dot3(ab, cp);
-  d6 = Dot3(ac, cp);
-  if (d6 >= 0 && d5 <= d6) return NEAREST_VERTEX_C;
-  v[1] = d5 * d2 - d1 * d6;
-  if (v[1] <= 0 && d2 >= 0 && d6 <= 0) {
-    *t = d2 / (d2 - d6);
-    return NEAREST_EDGE_AC;
-  }
+  d3   = Dot3(ab, bp);
+  d4   = Dot3(ac, bp);
+  near = VertexOrEdge(d1, d2, d3, d4, &v[2], t);
+  if (near) return near == 1 ? NEAREST_VERTEX_B : NEAREST_EDGE_AB;
+  d5   = Dot3(ab, cp);
+  d6   = Dot3(ac, cp);
+  near = VertexOrEdge(d2, d1, d6, d5, &v[1], t);
+  if (near) return near == 1 ? NEAREST_VERTEX_C : NEAREST_EDGE_AC;
   v[0] = d3 * d6 - d5 * d4;
   if (v[0] <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0) {
     *t = (d4 - d3) / ((d4 - d3) + (d5 - d6));
