@@ -462,14 +462,13 @@ static PetscInt SelfContactMaxCells(ClothSelfContact sc)
    lowest natural index of a particle reaching farthest from the origin, *reach (-1: the region is finite). */
 static PetscErrorCode CheckSearchFinite(ClothSelfContact sc, const PetscReal region[6], PetscInt *nonfinite, PetscInt *farthest, PetscReal *reach)
 {
-  const PetscInt n             = sc->cloth->nlocal + sc->nremote;
-  PetscInt       local[2]      = {PETSC_MAX_INT, PETSC_MAX_INT}, global[2];
-  PetscReal      far           = 0, far_all;
-  PetscBool      region_finite = PETSC_TRUE, all_finite;
+  const PetscInt n        = sc->cloth->nlocal + sc->nremote;
+  PetscInt       local[2] = {PETSC_MAX_INT, 1}, global[2], candidate = PETSC_MAX_INT; /* {lowest non-finite particle, region finite} */
+  PetscReal      far = 0;
 
   PetscFunctionBeginUser;
   for (PetscInt c = 0; c < 3; c++)
-    if (PetscIsInfOrNanReal(region[c]) || PetscIsInfOrNanReal(region[3 + c]) || PetscIsInfOrNanReal(region[3 + c] - region[c])) region_finite = PETSC_FALSE;
+    if (PetscIsInfOrNanReal(region[c]) || PetscIsInfOrNanReal(region[3 + c]) || PetscIsInfOrNanReal(region[3 + c] - region[c])) local[1] = 0;
   for (PetscInt k = 0; k < n; k++)
     for (PetscInt c = 0; c < 3; c++) {
       const PetscReal start = sc->x[3 * k + c], end = start + sc->dx[3 * k + c];
@@ -478,17 +477,19 @@ static PetscErrorCode CheckSearchFinite(ClothSelfContact sc, const PetscReal reg
       else
         far = PetscMax(far, PetscMax(PetscAbsReal(start), PetscAbsReal(end)));
     }
-  PetscCallMPI(MPI_Allreduce(&region_finite, &all_finite, 1, MPIU_BOOL, MPI_LAND, sc->comm));
-  PetscCallMPI(MPI_Allreduce(&far, &far_all, 1, MPIU_REAL, MPIU_MAX, sc->comm));
-  for (PetscInt k = 0; k < n && !all_finite; k++)
+  PetscCallMPI(MPI_Allreduce(local, global, 2, MPIU_INT, MPI_MIN, sc->comm)); /* the only reduction of a finite state */
+  *nonfinite = global[0] < PETSC_MAX_INT ? global[0] : -1;
+  *farthest  = -1;
+  *reach     = far;
+  if (*nonfinite >= 0 || global[1]) PetscFunctionReturn(PETSC_SUCCESS);
+  /* finite values, overflowing region: name the particle reaching farthest */
+  PetscCallMPI(MPI_Allreduce(&far, reach, 1, MPIU_REAL, MPIU_MAX, sc->comm));
+  for (PetscInt k = 0; k < n; k++)
     for (PetscInt c = 0; c < 3; c++) {
       const PetscReal start = sc->x[3 * k + c], end = start + sc->dx[3 * k + c];
-      if (PetscAbsReal(start) == far_all || PetscAbsReal(end) == far_all) local[1] = PetscMin(local[1], sc->natural_of[k]);
+      if (PetscAbsReal(start) == *reach || PetscAbsReal(end) == *reach) candidate = PetscMin(candidate, sc->natural_of[k]);
     }
-  PetscCallMPI(MPI_Allreduce(local, global, 2, MPIU_INT, MPI_MIN, sc->comm));
-  *nonfinite = global[0] < PETSC_MAX_INT ? global[0] : -1;
-  *farthest  = (*nonfinite < 0 && !all_finite) ? global[1] : -1;
-  *reach     = far_all;
+  PetscCallMPI(MPI_Allreduce(&candidate, farthest, 1, MPIU_INT, MPI_MIN, sc->comm));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
