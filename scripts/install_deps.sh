@@ -4,7 +4,7 @@
 #
 #   bash scripts/install_deps.sh
 #
-# Packages (see ../shared/TOOLCHAIN.md for the versions this was checked with):
+# Packages (checked with Debian 12's PETSc 3.18.5, Open MPI 4.1.4, HDF5 1.10.8, METIS 5.1.0, CMake 3.25.1, GCC 12.2):
 #   build:        gcc libc6-dev make cmake pkg-config
 #   libraries:    petsc-dev libopenmpi-dev openmpi-bin libhdf5-openmpi-dev libmetis-dev libyaml-dev
 #                 libopenblas0-serial   (an optimised BLAS/LAPACK in place of the reference one, through Debian's

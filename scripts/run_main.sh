@@ -38,7 +38,7 @@ echo "run_main: ${job[*]}"
 if [ -f "$output_dir/quality.json" ]; then
   /usr/bin/python3 postprocess/garment_quality.py "$output_dir" --name "$name" || true
   for view in front side back; do
-    # Rendering needs an X server: a virtual one (TOOLCHAIN.md).
+    # Rendering needs an X server (ParaView 5.11's pvpython crashes with --force-offscreen-rendering): a virtual one.
     xvfb-run -a /usr/bin/pvpython postprocess/render.py "$output_dir/$name.xdmf" --frame -1 --view "$view" \
       --size 800x1100 --out "$output_dir/${name}_$view.png" || echo "run_main: the $view render failed (is xvfb installed?)"
   done

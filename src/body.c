@@ -1,5 +1,6 @@
 /* Body (see body.h). */
 #include "body.h"
+#include "geometry.h"
 #include "vec3.h"
 
 struct _n_Body {
@@ -12,7 +13,6 @@ struct _n_Body {
   PetscInt      nonmanifold_edges;
   PetscBool     flipped; /* the file's triangles were oriented inwards */
 };
-
 
 /* x <- R (scale x) + t with R = Rz Ry Rx (angles in degrees: about x first, then y, then z). */
 static PetscErrorCode PlaceVertices(const SceneBody *d, MeshTriangles *mesh)
@@ -218,58 +218,6 @@ PetscErrorCode BodyIsInside(Body body, const PetscReal x[3], PetscBool *inside)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* The point of triangle (a, b, c) nearest to x (Ericson, Real-Time Collision Detection, 5.1.5). */
-void BodyTriangleNearestPoint(const PetscReal x[3], const PetscReal a[3], const PetscReal b[3], const PetscReal c[3], PetscReal q[3])
-{
-  PetscReal ab[3], ac[3], ap[3], bp[3], cp[3], d1, d2, d3, d4, d5, d6, va, vb, vc, v, w, denom;
-
-  Sub3(b, a, ab);
-  Sub3(c, a, ac);
-  Sub3(x, a, ap);
-  d1 = Dot3(ab, ap);
-  d2 = Dot3(ac, ap);
-  if (d1 <= 0 && d2 <= 0) {
-    for (PetscInt k = 0; k < 3; k++) q[k] = a[k];
-    return;
-  }
-  Sub3(x, b, bp);
-  d3 = Dot3(ab, bp);
-  d4 = Dot3(ac, bp);
-  if (d3 >= 0 && d4 <= d3) {
-    for (PetscInt k = 0; k < 3; k++) q[k] = b[k];
-    return;
-  }
-  vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) {
-    v = d1 / (d1 - d3);
-    for (PetscInt k = 0; k < 3; k++) q[k] = a[k] + v * ab[k];
-    return;
-  }
-  Sub3(x, c, cp);
-  d5 = Dot3(ab, cp);
-  d6 = Dot3(ac, cp);
-  if (d6 >= 0 && d5 <= d6) {
-    for (PetscInt k = 0; k < 3; k++) q[k] = c[k];
-    return;
-  }
-  vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) {
-    w = d2 / (d2 - d6);
-    for (PetscInt k = 0; k < 3; k++) q[k] = a[k] + w * ac[k];
-    return;
-  }
-  va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
-    w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-    for (PetscInt k = 0; k < 3; k++) q[k] = b[k] + w * (c[k] - b[k]);
-    return;
-  }
-  denom = 1 / (va + vb + vc);
-  v     = vb * denom;
-  w     = vc * denom;
-  for (PetscInt k = 0; k < 3; k++) q[k] = a[k] + v * ab[k] + w * ac[k];
-}
-
 PetscErrorCode BodyNearestSurfacePoint(Body body, const PetscReal x[3], PetscReal point[3], PetscReal normal[3])
 {
   const MeshTriangles *m    = &body->mesh;
@@ -285,7 +233,7 @@ PetscErrorCode BodyNearestSurfacePoint(Body body, const PetscReal x[3], PetscRea
     PetscReal q[3], r[3];
 
     if (Dot3(&body->face_normal[3 * t], &body->face_normal[3 * t]) == 0) continue; /* degenerate */
-    BodyTriangleNearestPoint(x, &m->coords[3 * m->tris[3 * t]], &m->coords[3 * m->tris[3 * t + 1]], &m->coords[3 * m->tris[3 * t + 2]], q);
+    GeometryTriangleNearestPoint(x, &m->coords[3 * m->tris[3 * t]], &m->coords[3 * m->tris[3 * t + 1]], &m->coords[3 * m->tris[3 * t + 2]], q);
     Sub3(q, x, r);
     if (Dot3(r, r) < best) {
       best = Dot3(r, r);

@@ -1,4 +1,4 @@
-/* Body: a rigid obstacle the cloth collides with (MODEL.md section 6): an analytic sphere or plane, or a
+/* Body: a rigid obstacle the cloth collides with (docs/model.md section 6): an analytic sphere or plane, or a
    triangle mesh read from an OBJ file (the mannequin), placed by the scene's scale, rotation and translation.
 
    Mesh triangles are oriented so that their normals (b - a) x (c - a) point out of the body (the orientation
@@ -31,8 +31,6 @@ PetscErrorCode BodyIsInside(Body body, const PetscReal x[3], PetscBool *inside);
 /* The surface point nearest to x and the unit outward normal there (mesh: the face normal of the nearest
    triangle; a search over all triangles, meant for the few particles found inside). */
 PetscErrorCode BodyNearestSurfacePoint(Body body, const PetscReal x[3], PetscReal point[3], PetscReal normal[3]);
-/* The point q of triangle (a, b, c) nearest to x (Ericson, Real-Time Collision Detection, 5.1.5). */
-void BodyTriangleNearestPoint(const PetscReal x[3], const PetscReal a[3], const PetscReal b[3], const PetscReal c[3], PetscReal q[3]);
 /* Prints the type, placement and, for meshes, the triangle count, box and boundary-edge count. */
 PetscErrorCode BodyView(Body body, PetscViewer viewer);
 PetscErrorCode BodyDestroy(Body *body);

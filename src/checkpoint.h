@@ -1,6 +1,6 @@
 /* Checkpoints: full state in one HDF5 file, written collectively, renamed into place when complete.
 
-   Layout (DESIGN.md, docs/checkpoint.md): /state/position and /state/velocity, (N, 3) float64 in
+   Layout (docs/checkpoint.md): /state/position and /state/velocity, (N, 3) float64 in
    natural (global particle) order, plus any further per-particle field a restart needs (the implicit
    integrator's last velocity change, /state/implicit_dv); attributes on /state: step (int64), time
    (float64), and the rest of ClothCheckpointInfo. */

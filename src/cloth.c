@@ -472,6 +472,13 @@ PetscErrorCode ClothGetModel(Cloth cloth, ClothModel *model)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+PetscErrorCode ClothGetComm(Cloth cloth, MPI_Comm *comm)
+{
+  PetscFunctionBeginUser;
+  *comm = cloth->comm;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode ClothGetParticleName(Cloth cloth, PetscInt g, char name[], size_t len)
 {
   const ClothModel m     = cloth->model;

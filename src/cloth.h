@@ -62,7 +62,7 @@ typedef enum {
 PetscErrorCode ClothHysteresisCreateStateVec(Cloth cloth, ClothSliderFamily family, Vec *state);
 PetscErrorCode ClothHysteresisGetState(Cloth cloth, ClothSliderFamily family, Vec state);
 PetscErrorCode ClothHysteresisSetState(Cloth cloth, ClothSliderFamily family, Vec state);
-/* The linearised backward Euler system of MODEL.md section 5, filtered by the constraints:
+/* The linearised backward Euler system of docs/model.md section 5, filtered by the constraints:
    A = S (M + h C + h^2 K) S + (I - S) and rhs = S h (F - h K v), K the positive semidefinite part of
    the stiffness. A must come from ClothCreateMatrix. Collective. */
 PetscErrorCode ClothAssembleImplicitSystem(Cloth cloth, PetscReal h, Vec position, Vec velocity, Mat A, Vec rhs);
@@ -124,5 +124,7 @@ PetscErrorCode ClothGetLocalPositionArray(Cloth cloth, const PetscScalar **x);
 PetscErrorCode ClothRestoreLocalPositionArray(Cloth cloth, const PetscScalar **x);
 /* The global model (every rank holds it; read-only): topology for output, counts. */
 PetscErrorCode ClothGetModel(Cloth cloth, ClothModel *model);
+/* The communicator the cloth lives on (the one given to ClothCreate): the objects built on the cloth use it. */
+PetscErrorCode ClothGetComm(Cloth cloth, MPI_Comm *comm);
 /* Names natural particle g as "piece (i, j)": its piece and grid node, for diagnostics. Not collective. */
 PetscErrorCode ClothGetParticleName(Cloth cloth, PetscInt g, char name[], size_t len);

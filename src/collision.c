@@ -1,5 +1,7 @@
 /* ClothCollision (see collision.h). */
 #include "collision.h"
+#include "cellgrid.h"
+#include "geometry.h"
 #include "log.h"
 #include "vec3.h"
 
@@ -19,9 +21,8 @@ typedef struct {
   /* the grid */
   PetscBool built;
   PetscReal covered_lo[3], covered_hi[3]; /* particles inside this box are served by the grid */
-  PetscReal lo[3], hi[3], cell[3];        /* the grid: covered box clipped to the body box */
-  PetscInt  n[3];                         /* cells per axis (0: the covered box misses the body) */
-  PetscInt *cell_start, *cell_tris;       /* CSR: triangles touching each cell */
+  PetscReal lo[3], hi[3];                 /* the grid's box: the covered box clipped to the body box */
+  CellGrid  grid;                         /* the triangles touching each cell (no cells: the covered box misses the body) */
   PetscInt *stamp;                        /* per triangle: last query that tested it */
   PetscInt  query;
 } CollisionMesh;
@@ -60,39 +61,8 @@ struct _n_ClothCollision {
   ClothCollisionStats  stats, local;
 };
 
-static inline PetscBool BoxesOverlap(const PetscReal alo[3], const PetscReal ahi[3], const PetscReal blo[3], const PetscReal bhi[3])
-{
-  for (PetscInt k = 0; k < 3; k++)
-    if (ahi[k] < blo[k] || bhi[k] < alo[k]) return PETSC_FALSE;
-  return PETSC_TRUE;
-}
-
 /* ------------------------------------------------------------------------------------------------------------ */
 /* Segment against triangles                                                                                   */
-
-/* Does the segment p0 + t d, t in [0, 1], cross triangle (a, b, c) from its outer side (d . n < 0)?
-   Moller-Trumbore; det = -d . n, so only det > 0 counts. */
-static PetscBool SegmentCrossesTriangle(const PetscReal p0[3], const PetscReal d[3], const PetscReal a[3], const PetscReal b[3], const PetscReal c[3], PetscReal *t)
-{
-  PetscReal e1[3], e2[3], pvec[3], s[3], q[3], det, inv, u, v;
-
-  for (PetscInt k = 0; k < 3; k++) {
-    e1[k] = b[k] - a[k];
-    e2[k] = c[k] - a[k];
-    s[k]  = p0[k] - a[k];
-  }
-  Cross3(d, e2, pvec);
-  det = Dot3(e1, pvec);
-  if (!(det > 0)) return PETSC_FALSE;
-  inv = 1 / det;
-  u   = Dot3(s, pvec) * inv;
-  if (u < -COLLISION_BARYCENTRIC_TOL || u > 1 + COLLISION_BARYCENTRIC_TOL) return PETSC_FALSE;
-  Cross3(s, e1, q);
-  v = Dot3(d, q) * inv;
-  if (v < -COLLISION_BARYCENTRIC_TOL || u + v > 1 + COLLISION_BARYCENTRIC_TOL) return PETSC_FALSE;
-  *t = Dot3(e2, q) * inv;
-  return (*t >= 0 && *t <= 1) ? PETSC_TRUE : PETSC_FALSE;
-}
 
 /* The paper's triangle-box rejection, then the exact test; keeps the first hit. */
 static void TestTriangle(const CollisionMesh *cm, PetscInt tri, const PetscReal p0[3], const PetscReal d[3], const PetscReal seg_lo[3], const PetscReal seg_hi[3], SegmentHit *hit, PetscInt64 *tests)
@@ -100,21 +70,13 @@ static void TestTriangle(const CollisionMesh *cm, PetscInt tri, const PetscReal 
   const PetscInt *v = &cm->mesh->tris[3 * tri];
   PetscReal       t;
 
-  if (!BoxesOverlap(seg_lo, seg_hi, &cm->tri_lo[3 * tri], &cm->tri_hi[3 * tri])) return;
+  if (!GeometryBoxesOverlap(seg_lo, seg_hi, &cm->tri_lo[3 * tri], &cm->tri_hi[3 * tri])) return;
   if (Dot3(&cm->face_normal[3 * tri], &cm->face_normal[3 * tri]) == 0) return; /* degenerate */
   (*tests)++;
-  if (!SegmentCrossesTriangle(p0, d, &cm->mesh->coords[3 * v[0]], &cm->mesh->coords[3 * v[1]], &cm->mesh->coords[3 * v[2]], &t)) return;
+  if (!GeometrySegmentCrossesTriangle(p0, d, &cm->mesh->coords[3 * v[0]], &cm->mesh->coords[3 * v[1]], &cm->mesh->coords[3 * v[2]], COLLISION_BARYCENTRIC_TOL, &t)) return;
   if (hit->triangle < 0 || t < hit->t || (t == hit->t && tri < hit->triangle)) {
     hit->triangle = tri;
     hit->t        = t;
-  }
-}
-
-static void SegmentBox(const PetscReal p0[3], const PetscReal p1[3], PetscReal lo[3], PetscReal hi[3])
-{
-  for (PetscInt k = 0; k < 3; k++) {
-    lo[k] = PetscMin(p0[k], p1[k]);
-    hi[k] = PetscMax(p0[k], p1[k]);
   }
 }
 
@@ -130,122 +92,42 @@ static void SearchBruteForce(const CollisionMesh *cm, const PetscReal p0[3], con
 
   hit->triangle = -1;
   for (PetscInt k = 0; k < 3; k++) d[k] = p1[k] - p0[k];
-  SegmentBox(p0, p1, lo, hi);
-  if (!BoxesOverlap(lo, hi, cm->body_lo, cm->body_hi)) return;
+  GeometrySegmentBox(p0, p1, lo, hi);
+  if (!GeometryBoxesOverlap(lo, hi, cm->body_lo, cm->body_hi)) return;
   for (PetscInt tri = 0; tri < cm->mesh->ntris; tri++) TestTriangle(cm, tri, p0, d, lo, hi, hit, tests);
   FinishHit(p0, d, hit);
 }
 
-/* Clips p0 + t d to the grid box: [*t0, *t1] (empty when *t0 > *t1). */
-static void ClipToGrid(const CollisionMesh *cm, const PetscReal p0[3], const PetscReal d[3], PetscReal *t0, PetscReal *t1)
-{
-  *t0 = 0;
-  *t1 = 1;
-  for (PetscInt k = 0; k < 3 && *t0 <= *t1; k++) {
-    if (d[k] == 0) {
-      if (p0[k] < cm->lo[k] || p0[k] > cm->hi[k]) *t0 = 2;
-      continue;
-    }
-    PetscReal ta = (cm->lo[k] - p0[k]) / d[k], tb = (cm->hi[k] - p0[k]) / d[k];
-    *t0 = PetscMax(*t0, PetscMin(ta, tb));
-    *t1 = PetscMin(*t1, PetscMax(ta, tb));
-  }
-}
-
-/* The cell grid: every cell the segment passes through, in order (Amanatides & Woo's 3D DDA), each
-   triangle tested once per query. */
+/* The cell grid: every cell the segment passes through, in order, each triangle tested once per query. */
 static void SearchGrid(CollisionMesh *cm, const PetscReal p0[3], const PetscReal p1[3], SegmentHit *hit, PetscInt64 *tests)
 {
-  PetscReal d[3], lo[3], hi[3], t0, t1, tmax[3], tdelta[3];
-  PetscInt  cell[3], step[3];
+  PetscReal       d[3], lo[3], hi[3];
+  PetscInt        n[3], c;
+  const PetscInt *start, *tris;
+  CellGridWalk    walk;
 
   hit->triangle = -1;
   for (PetscInt k = 0; k < 3; k++) d[k] = p1[k] - p0[k];
-  SegmentBox(p0, p1, lo, hi);
-  if (!cm->n[0] || !BoxesOverlap(lo, hi, cm->body_lo, cm->body_hi)) return;
-  ClipToGrid(cm, p0, d, &t0, &t1);
-  if (t0 > t1) return;
+  GeometrySegmentBox(p0, p1, lo, hi);
+  if (!CellGridHasCells(cm->grid) || !GeometryBoxesOverlap(lo, hi, cm->body_lo, cm->body_hi)) return;
+  CellGridGetCells(cm->grid, n, &start, &tris);
   cm->query++;
-  for (PetscInt k = 0; k < 3; k++) {
-    const PetscReal s = p0[k] + t0 * d[k];
-    cell[k]           = PetscMin(cm->n[k] - 1, PetscMax(0, (PetscInt)PetscFloorReal((s - cm->lo[k]) / cm->cell[k])));
-    step[k]           = d[k] > 0 ? 1 : (d[k] < 0 ? -1 : 0);
-    tmax[k]           = step[k] ? (cm->lo[k] + (cell[k] + (step[k] > 0 ? 1 : 0)) * cm->cell[k] - p0[k]) / d[k] : PETSC_MAX_REAL;
-    tdelta[k]         = step[k] ? cm->cell[k] / PetscAbsReal(d[k]) : PETSC_MAX_REAL;
-  }
-  for (;;) {
-    const PetscInt c = (cell[0] * cm->n[1] + cell[1]) * cm->n[2] + cell[2];
-    PetscInt       k = 0;
-
-    for (PetscInt j = cm->cell_start[c]; j < cm->cell_start[c + 1]; j++) {
-      const PetscInt tri = cm->cell_tris[j];
+  for (CellGridWalkBegin(cm->grid, p0, d, &walk); CellGridWalkNext(cm->grid, &walk, &c);)
+    for (PetscInt j = start[c]; j < start[c + 1]; j++) {
+      const PetscInt tri = tris[j];
       if (cm->stamp[tri] == cm->query) continue;
       cm->stamp[tri] = cm->query;
       TestTriangle(cm, tri, p0, d, lo, hi, hit, tests);
     }
-    if (tmax[1] < tmax[k]) k = 1;
-    if (tmax[2] < tmax[k]) k = 2;
-    if (tmax[k] > t1) break;
-    cell[k] += step[k];
-    if (cell[k] < 0 || cell[k] >= cm->n[k]) break;
-    tmax[k] += tdelta[k];
-  }
   FinishHit(p0, d, hit);
 }
 
 /* ------------------------------------------------------------------------------------------------------------ */
 /* The per-rank grid                                                                                           */
 
-/* Cell index range [first, last] along each axis touched by the box [lo, hi] (clamped to the grid). */
-static void CellRange(const CollisionMesh *cm, const PetscReal lo[3], const PetscReal hi[3], PetscInt first[3], PetscInt last[3])
-{
-  for (PetscInt k = 0; k < 3; k++) {
-    first[k] = PetscMax(0, (PetscInt)PetscFloorReal((lo[k] - cm->lo[k]) / cm->cell[k]));
-    last[k]  = PetscMin(cm->n[k] - 1, (PetscInt)PetscFloorReal((hi[k] - cm->lo[k]) / cm->cell[k]));
-  }
-}
-
-/* Lists the triangles of each cell: one pass counts, one fills. */
-static PetscErrorCode GridFill(CollisionMesh *cm)
-{
-  const PetscInt ncells = cm->n[0] * cm->n[1] * cm->n[2];
-  PetscInt       first[3], last[3], *fill;
-
-  PetscFunctionBeginUser;
-  PetscCall(PetscFree(cm->cell_start));
-  PetscCall(PetscFree(cm->cell_tris));
-  PetscCall(PetscCalloc1(ncells + 1, &cm->cell_start));
-  for (PetscInt pass = 0; pass < 2; pass++) {
-    for (PetscInt tri = 0; tri < cm->mesh->ntris; tri++) {
-      if (!BoxesOverlap(&cm->tri_lo[3 * tri], &cm->tri_hi[3 * tri], cm->lo, cm->hi)) continue;
-      CellRange(cm, &cm->tri_lo[3 * tri], &cm->tri_hi[3 * tri], first, last);
-      for (PetscInt i = first[0]; i <= last[0]; i++)
-        for (PetscInt j = first[1]; j <= last[1]; j++)
-          for (PetscInt l = first[2]; l <= last[2]; l++) {
-            const PetscInt c = (i * cm->n[1] + j) * cm->n[2] + l;
-            if (pass == 0)
-              cm->cell_start[c + 1]++;
-            else
-              cm->cell_tris[fill[c]++] = tri;
-          }
-    }
-    if (pass == 0) {
-      for (PetscInt c = 0; c < ncells; c++) cm->cell_start[c + 1] += cm->cell_start[c];
-      PetscCall(PetscMalloc1(cm->cell_start[ncells] + 1, &cm->cell_tris));
-      PetscCall(PetscMalloc1(ncells, &fill));
-      PetscCall(PetscArraycpy(fill, cm->cell_start, ncells));
-    }
-  }
-  PetscCall(PetscFree(fill));
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
 /* Builds the grid over the particle box [plo, phi] grown by the margin and clipped to the body's box. */
 static PetscErrorCode GridBuild(CollisionMesh *cm, const PetscReal plo[3], const PetscReal phi[3], PetscReal margin, PetscReal cell_size)
 {
-  PetscReal size  = cell_size > 0 ? cell_size : 2 * cm->mean_edge;
-  PetscBool empty = PETSC_FALSE;
-
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(ClothLog.collision_grid, 0, 0, 0, 0));
   for (PetscInt k = 0; k < 3; k++) {
@@ -253,19 +135,9 @@ static PetscErrorCode GridBuild(CollisionMesh *cm, const PetscReal plo[3], const
     cm->covered_hi[k] = phi[k] + margin;
     cm->lo[k]         = PetscMax(cm->covered_lo[k], cm->body_lo[k]);
     cm->hi[k]         = PetscMin(cm->covered_hi[k], cm->body_hi[k]);
-    if (!(cm->lo[k] < cm->hi[k])) empty = PETSC_TRUE;
   }
   cm->built = PETSC_TRUE;
-  cm->n[0] = cm->n[1] = cm->n[2] = 0;
-  if (!empty) {
-    for (;;) {
-      for (PetscInt k = 0; k < 3; k++) cm->n[k] = PetscMax(1, (PetscInt)PetscCeilReal((cm->hi[k] - cm->lo[k]) / size));
-      if ((PetscReal)cm->n[0] * cm->n[1] * cm->n[2] <= COLLISION_MAX_CELLS) break;
-      size *= 1.25;
-    }
-    for (PetscInt k = 0; k < 3; k++) cm->cell[k] = (cm->hi[k] - cm->lo[k]) / cm->n[k];
-    PetscCall(GridFill(cm));
-  }
+  PetscCall(CellGridBuild(cm->grid, cm->lo, cm->hi, cell_size > 0 ? cell_size : 2 * cm->mean_edge, COLLISION_MAX_CELLS, cm->mesh->ntris, cm->tri_lo, cm->tri_hi, 3));
   PetscCall(PetscLogEventEnd(ClothLog.collision_grid, 0, 0, 0, 0));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -278,6 +150,7 @@ static PetscErrorCode MeshSetUp(CollisionMesh *cm, Body body)
 
   PetscFunctionBeginUser;
   cm->body = body;
+  PetscCall(CellGridCreate(&cm->grid));
   PetscCall(BodyGetMesh(body, &cm->mesh, &cm->face_normal, cm->body_lo, cm->body_hi));
   PetscCall(PetscMalloc3(3 * cm->mesh->ntris, &cm->tri_lo, 3 * cm->mesh->ntris, &cm->tri_hi, cm->mesh->ntris, &cm->stamp));
   for (PetscInt tri = 0; tri < cm->mesh->ntris; tri++) {
@@ -436,7 +309,7 @@ static void NearestOnTriangle(const CollisionMesh *cm, PetscInt tri, const Petsc
   PetscReal       p[3], r[3];
 
   if (Dot3(&cm->face_normal[3 * tri], &cm->face_normal[3 * tri]) == 0) return; /* degenerate */
-  BodyTriangleNearestPoint(x, &cm->mesh->coords[3 * v[0]], &cm->mesh->coords[3 * v[1]], &cm->mesh->coords[3 * v[2]], p);
+  GeometryTriangleNearestPoint(x, &cm->mesh->coords[3 * v[0]], &cm->mesh->coords[3 * v[1]], &cm->mesh->coords[3 * v[2]], p);
   Sub3(x, p, r);
   if (Dot3(r, r) < *best_d2 || (Dot3(r, r) == *best_d2 && *best >= 0 && tri < *best)) {
     *best_d2 = Dot3(r, r);
@@ -449,31 +322,33 @@ static void NearestOnTriangle(const CollisionMesh *cm, PetscInt tri, const Petsc
    cell grid (every triangle that comes within radius of x overlaps the box x +- radius) or by brute force. */
 static PetscInt NearestTriangleWithin(ClothCollision col, CollisionMesh *cm, const PetscScalar x[3], PetscReal radius, PetscReal q[3])
 {
-  PetscReal lo[3], hi[3], best_d2 = radius * radius;
-  PetscInt  best = -1, first[3], last[3];
+  PetscReal       lo[3], hi[3], best_d2 = radius * radius;
+  PetscInt        best = -1, first[3], last[3], n[3];
+  const PetscInt *start, *tris;
 
   for (PetscInt k = 0; k < 3; k++) {
     lo[k] = x[k] - radius;
     hi[k] = x[k] + radius;
   }
-  if (!BoxesOverlap(lo, hi, cm->body_lo, cm->body_hi)) return -1;
+  if (!GeometryBoxesOverlap(lo, hi, cm->body_lo, cm->body_hi)) return -1;
   if (col->search == CLOTH_COLLISION_SEARCH_BRUTE_FORCE) {
     for (PetscInt tri = 0; tri < cm->mesh->ntris; tri++)
-      if (BoxesOverlap(lo, hi, &cm->tri_lo[3 * tri], &cm->tri_hi[3 * tri])) NearestOnTriangle(cm, tri, x, &best_d2, &best, q);
+      if (GeometryBoxesOverlap(lo, hi, &cm->tri_lo[3 * tri], &cm->tri_hi[3 * tri])) NearestOnTriangle(cm, tri, x, &best_d2, &best, q);
     return best;
   }
-  if (!cm->n[0] || !BoxesOverlap(lo, hi, cm->lo, cm->hi)) return -1;
+  if (!CellGridHasCells(cm->grid) || !GeometryBoxesOverlap(lo, hi, cm->lo, cm->hi)) return -1;
+  CellGridGetCells(cm->grid, n, &start, &tris);
   cm->query++;
-  CellRange(cm, lo, hi, first, last);
+  CellGridGetCellRange(cm->grid, lo, hi, first, last);
   for (PetscInt i = first[0]; i <= last[0]; i++)
     for (PetscInt j = first[1]; j <= last[1]; j++)
       for (PetscInt l = first[2]; l <= last[2]; l++) {
-        const PetscInt c = (i * cm->n[1] + j) * cm->n[2] + l;
-        for (PetscInt e = cm->cell_start[c]; e < cm->cell_start[c + 1]; e++) {
-          const PetscInt tri = cm->cell_tris[e];
+        const PetscInt c = CellGridCellIndex(n, i, j, l);
+        for (PetscInt e = start[c]; e < start[c + 1]; e++) {
+          const PetscInt tri = tris[e];
           if (cm->stamp[tri] == cm->query) continue;
           cm->stamp[tri] = cm->query;
-          if (BoxesOverlap(lo, hi, &cm->tri_lo[3 * tri], &cm->tri_hi[3 * tri])) NearestOnTriangle(cm, tri, x, &best_d2, &best, q);
+          if (GeometryBoxesOverlap(lo, hi, &cm->tri_lo[3 * tri], &cm->tri_hi[3 * tri])) NearestOnTriangle(cm, tri, x, &best_d2, &best, q);
         }
       }
   return best;
@@ -521,7 +396,7 @@ static PetscErrorCode KeepHeldMeshContact(ClothCollision col, const HeldContact 
   PetscCall(BodyGetDescription(col->bodies[held->body], &d));
   m   = col->meshes[held->body].mesh;
   tri = &m->tris[3 * held->triangle];
-  BodyTriangleNearestPoint(x, &m->coords[3 * tri[0]], &m->coords[3 * tri[1]], &m->coords[3 * tri[2]], q);
+  GeometryTriangleNearestPoint(x, &m->coords[3 * tri[0]], &m->coords[3 * tri[1]], &m->coords[3 * tri[2]], q);
   Sub3(x, q, r);
   if (Dot3(r, r) >= PetscSqr(d->thickness + ContactSlop(d))) PetscFunctionReturn(PETSC_SUCCESS);
   /* the distance from the triangle's plane, measured from its first vertex: a restart, which knows the
@@ -847,8 +722,10 @@ PetscErrorCode ClothCollisionRestoreHeldContacts(ClothCollision col)
       col->state[i] = CONTACT_STATE_HELD;
       found         = PETSC_TRUE;
     }
-    if (found) restored++;
-    else unmatched++;
+    if (found)
+      restored++;
+    else
+      unmatched++;
   }
   PetscCall(VecRestoreArrayRead(x, &xa));
   PetscCall(VecRestoreArrayRead(normals, &c));
@@ -926,8 +803,7 @@ PetscErrorCode ClothCollisionDestroy(ClothCollision *collision)
   if (!col) PetscFunctionReturn(PETSC_SUCCESS);
   for (PetscInt b = 0; col->meshes && b < col->nbodies; b++) {
     PetscCall(PetscFree3(col->meshes[b].tri_lo, col->meshes[b].tri_hi, col->meshes[b].stamp));
-    PetscCall(PetscFree(col->meshes[b].cell_start));
-    PetscCall(PetscFree(col->meshes[b].cell_tris));
+    PetscCall(CellGridDestroy(&col->meshes[b].grid));
   }
   for (PetscInt b = 0; col->bodies && b < col->nbodies; b++) PetscCall(BodyDestroy(&col->bodies[b]));
   PetscCall(PetscFree2(col->bodies, col->meshes));

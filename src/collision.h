@@ -1,4 +1,4 @@
-/* ClothCollision: the cloth against rigid bodies (MODEL.md section 6).
+/* ClothCollision: the cloth against rigid bodies (docs/model.md section 6).
 
    After every (sub-)step, each rank tests the segment that each of its owned particles travelled, from its
    previous to its new position:

@@ -1,4 +1,4 @@
-/* ClothIntegrator: advances the cloth by one step (MODEL.md section 5).
+/* ClothIntegrator: advances the cloth by one step (docs/model.md section 5).
 
    Types, chosen by name (-integrator): explicit (forward Euler), symplectic (semi-implicit Euler),
    implicit (linearised backward Euler, Baraff & Witkin 1998, solved with PETSc KSP). A step that

@@ -1,6 +1,6 @@
 /* ClothOutput: the XDMF + HDF5 time series that ParaView opens (DIR/NAME.xdmf + DIR/NAME.h5).
 
-   Vectors passed in are in the *natural* (global particle) order of DESIGN.md: pieces in scene order,
+   Vectors passed in are in the *natural* (global particle) order (docs/model.md section 1): pieces in scene order,
    each piece row by row, with PETSc's default contiguous layout and block size 3, so that every rank
    writes one contiguous hyperslab. */
 #pragma once

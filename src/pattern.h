@@ -1,4 +1,4 @@
-/* Pattern meshing: the flat 2D grid of a pattern piece (MODEL.md section 3).
+/* Pattern meshing: the flat 2D grid of a pattern piece (docs/model.md section 3).
 
    A piece is either a rectangle (size) or an outline of four boundaries, bottom, right, top, left:
    polylines in the pattern plane with any number of vertices. Bottom and top carry nu nodes, left and

@@ -11,13 +11,15 @@ static PetscErrorCode ViewMostStrained(Cloth cloth, Vec natural, PetscInt n)
   PetscReal         *strain;
   PetscInt           size;
   PetscMPIInt        rank;
+  MPI_Comm           comm;
 
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_rank(PETSC_COMM_WORLD, &rank));
+  PetscCall(ClothGetComm(cloth, &comm));
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
   PetscCall(VecScatterCreateToZero(natural, &to_zero, &all));
   PetscCall(VecScatterBegin(to_zero, natural, all, INSERT_VALUES, SCATTER_FORWARD));
   PetscCall(VecScatterEnd(to_zero, natural, all, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "Most strained particles (largest (l - l0) / l0 of their stretch links):\n"));
+  PetscCall(PetscPrintf(comm, "Most strained particles (largest (l - l0) / l0 of their stretch links):\n"));
   if (rank == 0) {
     PetscCall(VecGetSize(all, &size));
     PetscCall(PetscMalloc1(size, &strain));
@@ -62,17 +64,19 @@ static PetscErrorCode MaxLinkStrain(Cloth cloth, PetscInt n, PetscReal *strain)
 static PetscErrorCode WriteSeamLinks(Cloth cloth, FILE *fp)
 {
   ClothModel model;
+  MPI_Comm   comm;
 
   PetscFunctionBeginUser;
   PetscCall(ClothGetModel(cloth, &model));
-  PetscCall(PetscFPrintf(PETSC_COMM_WORLD, fp, "  \"seam_links\": ["));
+  PetscCall(ClothGetComm(cloth, &comm));
+  PetscCall(PetscFPrintf(comm, fp, "  \"seam_links\": ["));
   for (PetscInt l = 0; l < model->nseamlinks; l++) {
     const ClothSeamLink *link = &model->seamlinks[l];
-    PetscCall(PetscFPrintf(PETSC_COMM_WORLD, fp, "%s[%" PetscInt_FMT ", %" PetscInt_FMT, l ? ", " : "", link->p[0], link->p[1]));
-    if (link->np == 3) PetscCall(PetscFPrintf(PETSC_COMM_WORLD, fp, ", %" PetscInt_FMT, link->p[2]));
-    PetscCall(PetscFPrintf(PETSC_COMM_WORLD, fp, "]"));
+    PetscCall(PetscFPrintf(comm, fp, "%s[%" PetscInt_FMT ", %" PetscInt_FMT, l ? ", " : "", link->p[0], link->p[1]));
+    if (link->np == 3) PetscCall(PetscFPrintf(comm, fp, ", %" PetscInt_FMT, link->p[2]));
+    PetscCall(PetscFPrintf(comm, fp, "]"));
   }
-  PetscCall(PetscFPrintf(PETSC_COMM_WORLD, fp, "]\n"));
+  PetscCall(PetscFPrintf(comm, fp, "]\n"));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -88,12 +92,14 @@ PetscErrorCode ClothRunWriteQuality(ClothRun run, const char path[], PetscReal w
   PetscReal        gap = 0, strain;
   PetscMPIInt      size;
   FILE            *fp;
+  MPI_Comm         comm;
 
   PetscFunctionBeginUser;
   PetscCall(ClothRunGetCloth(run, &cloth));
+  PetscCall(ClothGetComm(cloth, &comm));
   PetscCall(ClothRunGetCollision(run, &collision));
   PetscCall(ClothRunGetSewing(run, &sewing));
-  PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Garment quality (written at the end of a run with seams)", "ClothRunWriteQuality");
+  PetscOptionsBegin(comm, NULL, "Garment quality (written at the end of a run with seams)", "ClothRunWriteQuality");
   PetscCall(PetscOptionsInt("-quality_worst", "Print this many of the widest seam pairs and of the most strained particles, with their pieces and grid nodes", "ClothRunWriteQuality", worst, &worst, NULL));
   PetscOptionsEnd();
   if (sewing) PetscCall(ClothSewingGetStatus(sewing, &phase, &sewn, &total, &gap));
@@ -102,14 +108,15 @@ PetscErrorCode ClothRunWriteQuality(ClothRun run, const char path[], PetscReal w
   PetscCall(MaxLinkStrain(cloth, worst, &strain));
   PetscCall(ClothGetState(cloth, &x, &v));
   PetscCall(ClothComputeEnergy(cloth, x, v, &energy));
-  PetscCallMPI(MPI_Comm_size(PETSC_COMM_WORLD, &size));
-  PetscCall(PetscFOpen(PETSC_COMM_WORLD, path, "w", &fp));
-  PetscCall(PetscFPrintf(PETSC_COMM_WORLD, fp, "{\n  \"max_seam_gap_m\": %.6e,\n  \"sewn_pairs\": %" PetscInt_FMT ",\n  \"seam_pairs\": %" PetscInt_FMT ",\n", (double)gap, sewn, total));
-  PetscCall(PetscFPrintf(PETSC_COMM_WORLD, fp, "  \"particles_inside_body\": %" PetscInt_FMT ",\n  \"max_link_strain\": %.6e,\n  \"kinetic_energy_j\": %.6e,\n", inside, (double)strain, (double)energy.kinetic));
-  PetscCall(PetscFPrintf(PETSC_COMM_WORLD, fp, "  \"wall_s\": %.3f,\n  \"ranks\": %d,\n", (double)wall_seconds, (int)size));
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  PetscCall(PetscFOpen(comm, path, "w", &fp));
+  PetscCall(PetscFPrintf(comm, fp, "{\n  \"max_seam_gap_m\": %.6e,\n  \"sewn_pairs\": %" PetscInt_FMT ",\n  \"seam_pairs\": %" PetscInt_FMT ",\n", (double)gap, sewn, total));
+  PetscCall(PetscFPrintf(comm, fp, "  \"particles_inside_body\": %" PetscInt_FMT ",\n  \"max_link_strain\": %.6e,\n  \"kinetic_energy_j\": %.6e,\n", inside, (double)strain, (double)energy.kinetic));
+  PetscCall(PetscFPrintf(comm, fp, "  \"wall_s\": %.3f,\n  \"ranks\": %d,\n", (double)wall_seconds, (int)size));
   PetscCall(WriteSeamLinks(cloth, fp));
-  PetscCall(PetscFPrintf(PETSC_COMM_WORLD, fp, "}\n"));
-  PetscCall(PetscFClose(PETSC_COMM_WORLD, fp));
-  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "Garment quality: widest seam gap %.2f mm (%" PetscInt_FMT "/%" PetscInt_FMT " pairs sewn), %" PetscInt_FMT " particles inside the body, max link strain %.4f, kinetic energy %.3e J -> %s\n", (double)(1e3 * gap), sewn, total, inside, (double)strain, (double)energy.kinetic, path));
+  PetscCall(PetscFPrintf(comm, fp, "}\n"));
+  PetscCall(PetscFClose(comm, fp));
+  PetscCall(PetscPrintf(comm, "Garment quality: widest seam gap %.2f mm (%" PetscInt_FMT "/%" PetscInt_FMT " pairs sewn), %" PetscInt_FMT " particles inside the body, max link strain %.4f, kinetic energy %.3e J -> %s\n", (double)(1e3 * gap), sewn,
+                        total, inside, (double)strain, (double)energy.kinetic, path));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -537,14 +537,6 @@ PetscErrorCode ClothRunGetCloth(ClothRun run, Cloth *cloth)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode ClothRunGetStep(ClothRun run, PetscInt *step, PetscReal *time)
-{
-  PetscFunctionBeginUser;
-  if (step) *step = run->step;
-  if (time) *time = run->time;
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
 PetscErrorCode ClothRunDestroy(ClothRun *run)
 {
   ClothRun r = *run;

@@ -19,5 +19,4 @@ PetscErrorCode ClothRunGetCloth(ClothRun run, Cloth *cloth);
 PetscErrorCode ClothRunGetCollision(ClothRun run, ClothCollision *collision);
 /* The sewing phases of a scene with seams (NULL without seams). */
 PetscErrorCode ClothRunGetSewing(ClothRun run, ClothSewing *sewing);
-PetscErrorCode ClothRunGetStep(ClothRun run, PetscInt *step, PetscReal *time);
 PetscErrorCode ClothRunDestroy(ClothRun *run);

@@ -130,9 +130,11 @@ static const char *const SceneBooleans[] = {"false", "true", "SceneBoolean", "SC
 static const char *const SceneBodyTypeKeys[][5] = {{"center", "radius", NULL}, {"point", "normal", NULL}, {"file", "scale", "rotation", "translation", NULL}};
 const char *const        SceneBodyTypes[]       = {"sphere", "plane", "mesh", "SceneBodyType", "SCENE_BODY_", NULL};
 
-#define SCENE_ORTHOGONALITY_TOL 1e-6
-#define SCENE_TEXT_LEN 1024    /* room for an expectation or a description in a message */
-#define SCENE_DESCRIBE_DEPTH 3 /* nested lists shown in messages (aliases may make cycles) */
+#define SCENE_ORTHOGONALITY_TOL 1e-6  /* |u.v| of unit axes that count as orthogonal (and parallel: 1 - it) */
+#define SCENE_CORNER_JOIN_RTOL 1e-6   /* boundary ends this fraction of the outline's size apart still meet: coordinates typed with 7 digits join */
+#define SCENE_PLANE_DISTANCE_TOL 1e-6 /* m: a point this close to a piece's plane lies in it (a cone's apex; not a cylinder's axis point) */
+#define SCENE_TEXT_LEN 1024           /* room for an expectation or a description in a message */
+#define SCENE_DESCRIBE_DEPTH 3        /* nested lists shown in messages (aliases may make cycles) */
 #define SCENE_FNV_OFFSET UINT64_C(0xcbf29ce484222325)
 #define SCENE_FNV_PRIME UINT64_C(0x100000001b3)
 
@@ -921,8 +923,7 @@ static PetscErrorCode CheckBoundaryCorners(SceneReader *r, yaml_node_t *node, co
     const PetscReal *p = &piece->boundary_points[meet[c][0]][meet[c][1] ? 2 * (piece->boundary_npoints[meet[c][0]] - 1) : 0];
     const PetscReal *q = &piece->boundary_points[meet[c][2]][meet[c][3] ? 2 * (piece->boundary_npoints[meet[c][2]] - 1) : 0];
 
-    /* 1e-6 of the outline's size: coordinates typed with 7 digits still join */
-    if (PetscSqrtReal(PetscSqr(p[0] - q[0]) + PetscSqr(p[1] - q[1])) > 1e-6 * extent)
+    if (PetscSqrtReal(PetscSqr(p[0] - q[0]) + PetscSqr(p[1] - q[1])) > SCENE_CORNER_JOIN_RTOL * extent)
       PetscCall(SceneFailValue(r, node, "boundaries",
                                "boundaries that meet at the corners (bottom and left from corner (0, 0), bottom to right, left to top, right and top to the far corner); here the %s of %s is (%g, %g) but the %s of %s is (%g, %g)",
                                meet[c][1] ? "end" : "start", SceneBoundaryKeys[meet[c][0]], (double)p[0], (double)p[1], meet[c][3] ? "end" : "start", SceneBoundaryKeys[meet[c][2]], (double)q[0], (double)q[1]));
@@ -930,7 +931,7 @@ static PetscErrorCode CheckBoundaryCorners(SceneReader *r, yaml_node_t *node, co
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* boundaries: {bottom, right, top, left: polylines or arcs, nodes: [bottom, right, top, left]} (MODEL.md section 3).
+/* boundaries: {bottom, right, top, left: polylines or arcs, nodes: [bottom, right, top, left]} (docs/model.md section 3).
    Sets *nodes_given when the node counts are given (they then set the grid). */
 static PetscErrorCode ReadBoundaries(SceneReader *r, yaml_node_t *map, ScenePiece *piece, PetscBool *nodes_given)
 {
@@ -1044,12 +1045,12 @@ static PetscErrorCode ReadWrap(SceneReader *r, yaml_node_t *map, ScenePiece *pie
   along     = normal[0] * piece->wrap_axis[0] + normal[1] * piece->wrap_axis[1] + normal[2] * piece->wrap_axis[2];
   for (PetscInt c = 0; c < 3; c++) offset += normal[c] * (piece->origin[c] - piece->wrap_point[c]);
   if (piece->wrap_cone) {
-    if (PetscAbsReal(offset) > 1e-6) PetscCall(SceneFailValue(r, wrap, "wrap", "an apex in the piece's plane (the cone touches the plane along a line through its apex)"));
+    if (PetscAbsReal(offset) > SCENE_PLANE_DISTANCE_TOL) PetscCall(SceneFailValue(r, wrap, "wrap", "an apex in the piece's plane (the cone touches the plane along a line through its apex)"));
     if (PetscAbsReal(along) < SCENE_ORTHOGONALITY_TOL || PetscAbsReal(along) > 1 - SCENE_ORTHOGONALITY_TOL)
       PetscCall(SceneFailValue(r, wrap, "wrap", "an axis at an angle strictly between 0 and 90 degrees to the piece's plane (the cone's half-angle)"));
   } else {
     if (PetscAbsReal(along) > SCENE_ORTHOGONALITY_TOL) PetscCall(SceneFailValue(r, wrap, "wrap", "an axis parallel to the piece's plane (u_axis, v_axis)"));
-    if (PetscAbsReal(offset) < 1e-6) PetscCall(SceneFailValue(r, wrap, "wrap", "an axis_point off the piece's plane (the cylinder's radius is its distance from the plane)"));
+    if (PetscAbsReal(offset) < SCENE_PLANE_DISTANCE_TOL) PetscCall(SceneFailValue(r, wrap, "wrap", "an axis_point off the piece's plane (the cylinder's radius is its distance from the plane)"));
   }
   piece->wrapped = PETSC_TRUE;
   PetscFunctionReturn(PETSC_SUCCESS);

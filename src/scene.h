@@ -68,7 +68,7 @@ typedef struct {
   PetscInt             *pins;                /* 2*npins grid indices (i, j), already resolved to 0 <= i < nu, 0 <= j < nv */
   PetscInt             *pins_given;          /* 2*npins indices exactly as written (negative counts from the end), for -grid */
   PetscInt              grid_given[2];       /* nu, nv as written in the file (before any SceneSetGridSize) */
-  PetscBool             has_boundaries;      /* outline from four boundaries (MODEL.md section 3) instead of size */
+  PetscBool             has_boundaries;      /* outline from four boundaries (docs/model.md section 3) instead of size */
   PetscInt              boundary_npoints[4]; /* vertices of the bottom, right, top, left polylines */
   PetscReal            *boundary_points[4];  /* 2 * npoints pattern-plane coordinates (u, v), m, each */
   PetscReal             pin_disc[3];         /* pin particles with |uv - (pin_disc[0], pin_disc[1])| < pin_disc[2] (radius 0 = none) */

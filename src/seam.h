@@ -1,5 +1,5 @@
 /* Seams: corresponding points of two pattern pieces' boundaries, and the forces that sew them
-   (MODEL.md section 7).
+   (docs/model.md section 7).
 
    A seam joins a stretch of one piece's boundary to a stretch of another's. Corresponding points are
    matched by arc length: every node of the side with more nodes is paired with the point at the

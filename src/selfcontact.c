@@ -1,25 +1,18 @@
 /* ClothSelfContact (see selfcontact.h): cloth-cloth proximity search across ranks, repulsion with
    its stiffness for the implicit system, and the inelastic velocity filter.
 
-   Geometry follows C. Ericson, Real-Time Collision Detection (2005), 5.1.5 (closest point on a
-   triangle) and 5.1.9 (closest points of two segments); the response follows R. Bridson, R. Fedkiw,
+   The closest points come from geometry.h, the cell grids from cellgrid.h; the response follows R. Bridson, R. Fedkiw,
    J. Anderson, "Robust treatment of collisions, contact and friction for cloth animation",
    SIGGRAPH 2002 (repulsion within the thickness, inelastic impulses along the normal weighted by the
    barycentric weights and inverse masses, iterated Gauss-Seidel sweeps). */
 #include "selfcontact.h"
+#include "cellgrid.h"
 #include "cloth_impl.h"
+#include "geometry.h"
 #include "log.h"
 #include "vec3.h"
 
 #define SELF_CONTACT_NP 4 /* particles of a contact element */
-
-/* A uniform grid of cubic cells over a box, each cell listing the items whose boxes touch it (CSR). */
-typedef struct {
-  PetscReal lo[3], h;
-  PetscInt  n[3];
-  PetscInt *start, *item;
-  PetscInt *low_cell; /* per item: the cell (i, j, k) of its box's low corner */
-} CellGrid;
 
 struct _n_ClothSelfContact {
   Cloth                     cloth;
@@ -50,6 +43,7 @@ struct _n_ClothSelfContact {
   PetscReal    *x, *dx;                                       /* contact-local positions at the search, displacements over the step */
   Vec           xremote, vremote, fremote, kvremote, bremote; /* bremote: body-contact normals */
   VecScatter    remote_scatter;                               /* cloth state -> remote particles */
+  CellGrid      triangle_grid, edge_grid;                     /* the cell grids of the last search */
   PetscInt      ncontacts, maxcontacts;
   ClothContact *contacts; /* natural numbering */
   PetscInt     *local;    /* 4 contact-local indices per contact */
@@ -61,94 +55,8 @@ struct _n_ClothSelfContact {
   PetscInt    searches, contacts_found, impulses; /* statistics for the view (summed over ranks where relevant) */
 };
 
-
-static inline PetscReal Clamp01(PetscReal t)
-{
-  return t < 0 ? 0 : (t > 1 ? 1 : t);
-}
-
 /* ------------------------------------------------------------------------------------------------ */
 /* Geometry                                                                                         */
-
-/* Barycentric weights (of a, b, c) of the point of triangle abc closest to p (Ericson 5.1.5). */
-static void ClosestPointTriangle(const PetscReal p[3], const PetscReal a[3], const PetscReal b[3], const PetscReal c[3], PetscReal w[3])
-{
-  PetscReal ab[3], ac[3], ap[3], bp[3], cp[3], d1, d2, d3, d4, d5, d6, va, vb, vc, denom;
-
-  for (PetscInt k = 0; k < 3; k++) {
-    ab[k] = b[k] - a[k];
-    ac[k] = c[k] - a[k];
-    ap[k] = p[k] - a[k];
-    bp[k] = p[k] - b[k];
-    cp[k] = p[k] - c[k];
-  }
-  d1   = Dot3(ab, ap);
-  d2   = Dot3(ac, ap);
-  d3   = Dot3(ab, bp);
-  d4   = Dot3(ac, bp);
-  d5   = Dot3(ab, cp);
-  d6   = Dot3(ac, cp);
-  w[0] = 1, w[1] = 0, w[2] = 0;
-  if (d1 <= 0 && d2 <= 0) return;
-  w[0] = 0, w[1] = 1;
-  if (d3 >= 0 && d4 <= d3) return;
-  vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) {
-    w[1] = d1 / (d1 - d3), w[0] = 1 - w[1];
-    return;
-  }
-  w[0] = 0, w[1] = 0, w[2] = 1;
-  if (d6 >= 0 && d5 <= d6) return;
-  vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) {
-    w[2] = d2 / (d2 - d6), w[0] = 1 - w[2];
-    return;
-  }
-  va = d3 * d6 - d5 * d4;
-  if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0) {
-    w[2] = (d4 - d3) / ((d4 - d3) + (d5 - d6)), w[0] = 0, w[1] = 1 - w[2];
-    return;
-  }
-  denom = va + vb + vc;
-  if (denom <= 0) { /* degenerate (collapsed) triangle: the nearest vertex will do */
-    w[0] = 1, w[1] = 0, w[2] = 0;
-    return;
-  }
-  w[1] = vb / denom, w[2] = vc / denom, w[0] = 1 - w[1] - w[2];
-}
-
-/* Parameters s, t of the closest points p1 + s (q1 - p1), p2 + t (q2 - p2) of two segments (Ericson 5.1.9). */
-static void ClosestPointsSegments(const PetscReal p1[3], const PetscReal q1[3], const PetscReal p2[3], const PetscReal q2[3], PetscReal *s, PetscReal *t)
-{
-  const PetscReal eps = 1e-300;
-  PetscReal       d1[3], d2[3], r[3], a, e, f, b, c, denom;
-
-  for (PetscInt k = 0; k < 3; k++) {
-    d1[k] = q1[k] - p1[k];
-    d2[k] = q2[k] - p2[k];
-    r[k]  = p1[k] - p2[k];
-  }
-  a = Dot3(d1, d1), e = Dot3(d2, d2), f = Dot3(d2, r);
-  *s = *t = 0;
-  if (a <= eps && e <= eps) return;
-  if (a <= eps) {
-    *t = Clamp01(f / e);
-    return;
-  }
-  c = Dot3(d1, r);
-  if (e <= eps) {
-    *s = Clamp01(-c / a);
-    return;
-  }
-  b     = Dot3(d1, d2);
-  denom = a * e - b * b;
-  *s    = denom > 0 ? Clamp01((b * f - c * e) / denom) : 0; /* parallel: any s, take 0 */
-  *t    = (b * *s + f) / e;
-  if (*t < 0)
-    *t = 0, *s = Clamp01(-c / a);
-  else if (*t > 1)
-    *t = 1, *s = Clamp01((b - c) / a);
-}
 
 /* r = sum_k a[k] x[k] */
 static void Separation(const PetscReal *const xs[SELF_CONTACT_NP], const PetscReal a[SELF_CONTACT_NP], PetscReal r[3])
@@ -174,7 +82,7 @@ static void TestPointTriangle(const PetscReal *const xs[SELF_CONTACT_NP], const 
 {
   PetscReal w[3], r[3];
 
-  ClosestPointTriangle(xs[0], xs[1], xs[2], xs[3], w);
+  GeometryClosestPointTriangle(xs[0], xs[1], xs[2], xs[3], w);
   contact->kind = CLOTH_CONTACT_POINT_TRIANGLE;
   contact->a[0] = 1, contact->a[1] = -w[0], contact->a[2] = -w[1], contact->a[3] = -w[2];
   Separation(xs, contact->a, r);
@@ -187,7 +95,7 @@ static void TestEdgeEdge(const PetscReal *const xs[SELF_CONTACT_NP], const Petsc
 {
   PetscReal s, t, r[3];
 
-  ClosestPointsSegments(xs[0], xs[1], xs[2], xs[3], &s, &t);
+  GeometryClosestPointsSegments(xs[0], xs[1], xs[2], xs[3], &s, &t);
   contact->kind = CLOTH_CONTACT_EDGE_EDGE;
   contact->a[0] = 1 - s, contact->a[1] = s, contact->a[2] = -(1 - t), contact->a[3] = -t;
   Separation(xs, contact->a, r);
@@ -209,78 +117,10 @@ static void SweptBoxOf(const PetscReal *const xs[], const PetscReal *const ds[],
   }
 }
 
-static PetscBool BoxesOverlap(const PetscReal a[6], const PetscReal b[6])
+/* Do the boxes a and b (6 reals: low corner, high corner) overlap? */
+static inline PetscBool Boxes6Overlap(const PetscReal a[6], const PetscReal b[6])
 {
-  for (PetscInt c = 0; c < 3; c++)
-    if (a[c] > b[3 + c] || b[c] > a[3 + c]) return PETSC_FALSE;
-  return PETSC_TRUE;
-}
-
-/* ------------------------------------------------------------------------------------------------ */
-/* Uniform cell grid                                                                                */
-
-static void CellRange(const CellGrid *g, const PetscReal box[6], PetscInt lo[3], PetscInt hi[3])
-{
-  for (PetscInt c = 0; c < 3; c++) {
-    lo[c] = (PetscInt)PetscFloorReal((box[c] - g->lo[c]) / g->h);
-    hi[c] = (PetscInt)PetscFloorReal((box[3 + c] - g->lo[c]) / g->h);
-    lo[c] = PetscMax(0, PetscMin(lo[c], g->n[c] - 1));
-    hi[c] = PetscMax(0, PetscMin(hi[c], g->n[c] - 1));
-  }
-}
-
-/* Cells of size at least h over region (grown when there would be more than maxcells), holding the
-   nbox boxes (6 reals each: low corner, high corner). */
-static PetscErrorCode CellGridBuild(CellGrid *g, const PetscReal region[6], PetscReal h, PetscInt maxcells, PetscInt nbox, const PetscReal box[])
-{
-  PetscInt ncells, *fill, lo[3], hi[3];
-
-  PetscFunctionBeginUser;
-  for (;;) {
-    PetscReal cells = 1;
-    for (PetscInt c = 0; c < 3; c++) cells *= PetscFloorReal((region[3 + c] - region[c]) / h) + 1;
-    if (cells <= maxcells) break;
-    h *= 1.5;
-  }
-  g->h = h;
-  for (PetscInt c = 0; c < 3; c++) {
-    g->lo[c] = region[c];
-    g->n[c]  = (PetscInt)PetscFloorReal((region[3 + c] - region[c]) / h) + 1;
-  }
-  ncells = g->n[0] * g->n[1] * g->n[2];
-  PetscCall(PetscMalloc1(3 * nbox + 1, &g->low_cell));
-  PetscCall(PetscCalloc1(ncells + 1, &g->start));
-  PetscCall(PetscCalloc1(ncells, &fill));
-  for (PetscInt pass = 0; pass < 2; pass++) {
-    for (PetscInt b = 0; b < nbox; b++) {
-      CellRange(g, &box[6 * b], lo, hi);
-      for (PetscInt c = 0; c < 3; c++) g->low_cell[3 * b + c] = lo[c];
-      for (PetscInt i = lo[0]; i <= hi[0]; i++)
-        for (PetscInt j = lo[1]; j <= hi[1]; j++)
-          for (PetscInt k = lo[2]; k <= hi[2]; k++) {
-            const PetscInt cell = (i * g->n[1] + j) * g->n[2] + k;
-            if (pass == 0)
-              g->start[cell + 1]++;
-            else
-              g->item[g->start[cell] + fill[cell]++] = b;
-          }
-    }
-    if (pass == 0) {
-      for (PetscInt cell = 0; cell < ncells; cell++) g->start[cell + 1] += g->start[cell];
-      PetscCall(PetscMalloc1(g->start[ncells] + 1, &g->item));
-    }
-  }
-  PetscCall(PetscFree(fill));
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-static PetscErrorCode CellGridDestroy(CellGrid *g)
-{
-  PetscFunctionBeginUser;
-  PetscCall(PetscFree(g->start));
-  PetscCall(PetscFree(g->item));
-  PetscCall(PetscFree(g->low_cell));
-  PetscFunctionReturn(PETSC_SUCCESS);
+  return GeometryBoxesOverlap(a, a + 3, b, b + 3);
 }
 
 /* ------------------------------------------------------------------------------------------------ */
@@ -609,35 +449,81 @@ static void ContactRegion(ClothSelfContact sc, PetscReal inflate, PetscReal regi
     for (PetscInt c = 0; c < 3; c++) region[c] = region[3 + c] = 0;
 }
 
+/* The cap on the cells of a search grid: a few per particle present, so that memory follows the particles
+   whatever the spread of the region (cells grow instead). */
+static PetscInt SelfContactMaxCells(ClothSelfContact sc)
+{
+  return 8 * (sc->cloth->nlocal + sc->nremote) + 64;
+}
+
+/* Is the state the search sees finite? Collective. *nonfinite: the lowest natural index of a particle
+   present on some rank whose position or displacement over the step is not finite (-1: none);
+   *farthest: when every value is finite but the region the grids would cover is not (it overflows), the
+   lowest natural index of a particle reaching farthest from the origin, *reach (-1: the region is finite). */
+static PetscErrorCode CheckSearchFinite(ClothSelfContact sc, const PetscReal region[6], PetscInt *nonfinite, PetscInt *farthest, PetscReal *reach)
+{
+  const PetscInt n        = sc->cloth->nlocal + sc->nremote;
+  PetscInt       local[2] = {PETSC_MAX_INT, 1}, global[2], candidate = PETSC_MAX_INT; /* {lowest non-finite particle, region finite} */
+  PetscReal      far = 0;
+
+  PetscFunctionBeginUser;
+  for (PetscInt c = 0; c < 3; c++)
+    if (PetscIsInfOrNanReal(region[c]) || PetscIsInfOrNanReal(region[3 + c]) || PetscIsInfOrNanReal(region[3 + c] - region[c])) local[1] = 0;
+  for (PetscInt k = 0; k < n; k++)
+    for (PetscInt c = 0; c < 3; c++) {
+      const PetscReal start = sc->x[3 * k + c], end = start + sc->dx[3 * k + c];
+      if (PetscIsInfOrNanReal(start) || PetscIsInfOrNanReal(end))
+        local[0] = PetscMin(local[0], sc->natural_of[k]);
+      else
+        far = PetscMax(far, PetscMax(PetscAbsReal(start), PetscAbsReal(end)));
+    }
+  PetscCallMPI(MPI_Allreduce(local, global, 2, MPIU_INT, MPI_MIN, sc->comm)); /* the only reduction of a finite state */
+  *nonfinite = global[0] < PETSC_MAX_INT ? global[0] : -1;
+  *farthest  = -1;
+  *reach     = far;
+  if (*nonfinite >= 0 || global[1]) PetscFunctionReturn(PETSC_SUCCESS);
+  /* finite values, overflowing region: name the particle reaching farthest */
+  PetscCallMPI(MPI_Allreduce(&far, reach, 1, MPIU_REAL, MPIU_MAX, sc->comm));
+  for (PetscInt k = 0; k < n; k++)
+    for (PetscInt c = 0; c < 3; c++) {
+      const PetscReal start = sc->x[3 * k + c], end = start + sc->dx[3 * k + c];
+      if (PetscAbsReal(start) == *reach || PetscAbsReal(end) == *reach) candidate = PetscMin(candidate, sc->natural_of[k]);
+    }
+  PetscCallMPI(MPI_Allreduce(&candidate, farthest, 1, MPIU_INT, MPI_MIN, sc->comm));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 /* Every owned particle against the triangles of the cells its path over the step touches. */
 static PetscErrorCode FindPointTriangle(ClothSelfContact sc, PetscReal radius, const PetscReal region[6], PetscReal cell, PetscInt ntri, const PetscInt tris[], const PetscReal boxes[])
 {
-  CellGrid g;
+  CellGrid        g = sc->triangle_grid;
+  PetscInt        n[3];
+  const PetscInt *start, *item;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscMemzero(&g, sizeof(g)));
-  PetscCall(CellGridBuild(&g, region, cell, 8 * (sc->cloth->nlocal + sc->nremote) + 64, ntri, boxes));
+  PetscCall(CellGridBuild(g, region, region + 3, cell, SelfContactMaxCells(sc), ntri, boxes, boxes + 3, 6));
+  CellGridGetCells(g, n, &start, &item);
   for (PetscInt k = 0; k < sc->cloth->nlocal; k++) {
     const PetscReal *p = &sc->x[3 * k], *dp = &sc->dx[3 * k];
     PetscReal        pbox[6];
     PetscInt         lo[3], hi[3];
 
     SweptBoxOf(&p, &dp, 1, 0.0, pbox);
-    CellRange(&g, pbox, lo, hi);
+    CellGridGetCellRange(g, pbox, pbox + 3, lo, hi);
     sc->visit++;
     for (PetscInt i = lo[0]; i <= hi[0]; i++)
       for (PetscInt j = lo[1]; j <= hi[1]; j++)
         for (PetscInt l = lo[2]; l <= hi[2]; l++) {
-          const PetscInt c = (i * g.n[1] + j) * g.n[2] + l;
-          for (PetscInt q = g.start[c]; q < g.start[c + 1]; q++) {
-            const PetscInt   tid = tris[g.item[q]], *t = &sc->tri[3 * tid], point = sc->natural_of[k];
+          const PetscInt c = CellGridCellIndex(n, i, j, l);
+          for (PetscInt q = start[c]; q < start[c + 1]; q++) {
+            const PetscInt   tid = tris[item[q]], *t = &sc->tri[3 * tid], point = sc->natural_of[k];
             const PetscReal *xs[SELF_CONTACT_NP], *ds[SELF_CONTACT_NP];
             ClothContact     contact;
             PetscBool        excluded, hit;
 
             if (sc->tri_mark[tid] == sc->visit) continue;
             sc->tri_mark[tid] = sc->visit;
-            if (!BoxesOverlap(pbox, &boxes[6 * g.item[q]])) continue;
+            if (!Boxes6Overlap(pbox, &boxes[6 * item[q]])) continue;
             PetscCall(Excluded(sc, &point, 1, t, 3, &excluded));
             if (excluded) continue;
             xs[0] = p, ds[0] = dp;
@@ -650,16 +536,15 @@ static PetscErrorCode FindPointTriangle(ClothSelfContact sc, PetscReal radius, c
           }
         }
   }
-  PetscCall(CellGridDestroy(&g));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 /* Two overlapping boxes (items a and b) share several cells; the pair is examined only in the one
    holding the low corner of their intersection (whose cell is the larger of their low cells, per
    axis), so that it is met once without marking. */
-static PetscBool CellOwnsPair(const CellGrid *g, PetscInt a, PetscInt b, PetscInt i, PetscInt j, PetscInt l)
+static PetscBool CellOwnsPair(const PetscInt low_cell[], PetscInt a, PetscInt b, PetscInt i, PetscInt j, PetscInt l)
 {
-  const PetscInt *ca = &g->low_cell[3 * a], *cb = &g->low_cell[3 * b];
+  const PetscInt *ca = &low_cell[3 * a], *cb = &low_cell[3 * b];
 
   return (PetscMax(ca[0], cb[0]) == i && PetscMax(ca[1], cb[1]) == j && PetscMax(ca[2], cb[2]) == l) ? PETSC_TRUE : PETSC_FALSE;
 }
@@ -681,29 +566,31 @@ static PetscBool HandlesEdgePair(ClothSelfContact sc, PetscInt e1, PetscInt e2, 
 /* Every edge with an owned particle against the edges in the cells its box touches. */
 static PetscErrorCode FindEdgeEdge(ClothSelfContact sc, PetscReal radius, const PetscReal region[6], PetscReal cell, PetscInt nedge, const PetscInt edges[], const PetscReal boxes[])
 {
-  CellGrid g;
-  PetscInt lo[3], hi[3];
+  CellGrid        g = sc->edge_grid;
+  PetscInt        lo[3], hi[3], n[3];
+  const PetscInt *start, *item, *low_cell;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscMemzero(&g, sizeof(g)));
-  PetscCall(CellGridBuild(&g, region, cell, 8 * (sc->cloth->nlocal + sc->nremote) + 64, nedge, boxes));
+  PetscCall(CellGridBuild(g, region, region + 3, cell, SelfContactMaxCells(sc), nedge, boxes, boxes + 3, 6));
+  CellGridGetCells(g, n, &start, &item);
+  CellGridGetItemLowCells(g, &low_cell);
   for (PetscInt k1 = 0; k1 < nedge; k1++) {
     const PetscInt e1 = edges[k1];
     if (!EdgeHasOwned(sc, e1)) continue;
-    CellRange(&g, &boxes[6 * k1], lo, hi);
+    CellGridGetCellRange(g, &boxes[6 * k1], &boxes[6 * k1 + 3], lo, hi);
     for (PetscInt i = lo[0]; i <= hi[0]; i++)
       for (PetscInt j = lo[1]; j <= hi[1]; j++)
         for (PetscInt l = lo[2]; l <= hi[2]; l++) {
-          const PetscInt c = (i * g.n[1] + j) * g.n[2] + l;
-          for (PetscInt q = g.start[c]; q < g.start[c + 1]; q++) {
-            const PetscInt   k2 = g.item[q], e2 = edges[k2], first = PetscMin(e1, e2), second = PetscMax(e1, e2);
+          const PetscInt c = CellGridCellIndex(n, i, j, l);
+          for (PetscInt q = start[c]; q < start[c + 1]; q++) {
+            const PetscInt   k2 = item[q], e2 = edges[k2], first = PetscMin(e1, e2), second = PetscMax(e1, e2);
             const PetscReal *xs[SELF_CONTACT_NP], *ds[SELF_CONTACT_NP];
             ClothContact     contact;
             PetscBool        excluded, hit;
 
             if (e2 <= e1 && (e2 == e1 || EdgeHasOwned(sc, e2))) continue; /* itself, or found from e2 */
-            if (!CellOwnsPair(&g, k1, k2, i, j, l)) continue;             /* met in another cell */
-            if (!BoxesOverlap(&boxes[6 * k1], &boxes[6 * k2])) continue;
+            if (!CellOwnsPair(low_cell, k1, k2, i, j, l)) continue;       /* met in another cell */
+            if (!Boxes6Overlap(&boxes[6 * k1], &boxes[6 * k2])) continue;
             contact.p[0] = sc->edge[2 * first], contact.p[1] = sc->edge[2 * first + 1];
             contact.p[2] = sc->edge[2 * second], contact.p[3] = sc->edge[2 * second + 1];
             if (!HandlesEdgePair(sc, e1, e2, contact.p)) continue;
@@ -715,7 +602,6 @@ static PetscErrorCode FindEdgeEdge(ClothSelfContact sc, PetscReal radius, const 
           }
         }
   }
-  PetscCall(CellGridDestroy(&g));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -769,8 +655,8 @@ static PetscErrorCode MaxSpeed(ClothSelfContact sc, Vec velocity, PetscReal *vma
 static PetscErrorCode Search(ClothSelfContact sc, PetscReal radius, Vec velocity, PetscReal h)
 {
   const PetscScalar *x;
-  PetscReal          link, longest = 0, region[6], vmax = 0;
-  PetscInt           nrecv, *recv, ntri, nedge, *tris, *edges;
+  PetscReal          link, longest = 0, region[6], vmax = 0, reach;
+  PetscInt           nrecv, *recv, ntri, nedge, *tris, *edges, nonfinite, farthest;
   PetscReal         *tboxes, *eboxes;
 
   PetscFunctionBeginUser;
@@ -784,9 +670,21 @@ static PetscErrorCode Search(ClothSelfContact sc, PetscReal radius, Vec velocity
   PetscCall(GatherContactLocal(sc, x, velocity, h));
   PetscCall(VecRestoreArrayRead(sc->cloth->position, &x));
   sc->ncontacts = 0;
+  ContactRegion(sc, radius, region);
+  PetscCall(CheckSearchFinite(sc, region, &nonfinite, &farthest, &reach));
+  if (nonfinite >= 0) {
+    /* a diverged state has no meaningful contacts; the integrator's test of the state at the end of the
+       step fails that step, which is halved and, failing at every size, ends the run at its last good
+       state, as it does without self-collision */
+    PetscCall(PetscInfo(NULL, "Self-collision search skipped: particle %" PetscInt_FMT " (natural numbering) has a non-finite position or velocity\n", nonfinite));
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
+  PetscCheck(farthest < 0, sc->comm, PETSC_ERR_FP,
+             "Self-collision: the region that the particles sweep over a step of %g s, widened by the contact radius %g m, is too large for a cell grid: particle %" PetscInt_FMT
+             " (natural numbering) reaches %g m from the origin. The state has diverged, or the self-collision thickness is far too large",
+             (double)h, (double)radius, farthest, (double)reach);
   PetscCall(CollectPrimitives(sc, 3, sc->tri, sc->tri_start, sc->tri_of, sc->tri_mark, radius, &ntri, &tris, &tboxes, &longest));
   PetscCall(CollectPrimitives(sc, 2, sc->edge, sc->edge_start, sc->edge_of, sc->edge_mark, 0.5 * radius, &nedge, &edges, &eboxes, &longest));
-  ContactRegion(sc, radius, region);
   PetscCall(FindPointTriangle(sc, radius, region, PetscMax(radius, longest), ntri, tris, tboxes));
   PetscCall(FindEdgeEdge(sc, radius, region, PetscMax(radius, longest), nedge, edges, eboxes));
   PetscCall(PetscFree(tris));
@@ -1258,8 +1156,10 @@ PetscErrorCode ClothSelfContactSetFromOptions(ClothSelfContact sc)
   PetscCall(PetscOptionsBool("-self_collision_view", "Print the self-collision settings and statistics at the end", "ClothSelfContactView", sc->view, &sc->view, NULL));
   PetscOptionsEnd();
   if (sc->enabled) {
-    PetscCheck(sc->thickness > 0, sc->comm, PETSC_ERR_USER_INPUT, "Self-collision needs a positive thickness (scene self_collision: thickness, or -self_collision_thickness), got %g m", (double)sc->thickness);
-    PetscCheck(sc->stiffness > 0, sc->comm, PETSC_ERR_USER_INPUT, "Self-collision needs a positive stiffness (scene self_collision: stiffness, or -self_collision_stiffness), got %g N/m", (double)sc->stiffness);
+    PetscCheck(sc->thickness > 0 && !PetscIsInfOrNanReal(sc->thickness), sc->comm, PETSC_ERR_USER_INPUT, "Self-collision needs a positive finite thickness (scene self_collision: thickness, or -self_collision_thickness), got %g m",
+               (double)sc->thickness);
+    PetscCheck(sc->stiffness > 0 && !PetscIsInfOrNanReal(sc->stiffness), sc->comm, PETSC_ERR_USER_INPUT, "Self-collision needs a positive finite stiffness (scene self_collision: stiffness, or -self_collision_stiffness), got %g N/m",
+               (double)sc->stiffness);
     PetscCheck(sc->exclude_ring >= 0, sc->comm, PETSC_ERR_USER_INPUT, "-self_collision_exclude_ring must not be negative, got %" PetscInt_FMT, sc->exclude_ring);
     PetscCheck(sc->min_gap > 0 && sc->min_gap < 1, sc->comm, PETSC_ERR_USER_INPUT, "-self_collision_min_gap must lie in (0, 1), got %g", (double)sc->min_gap);
     PetscCheck(sc->impulse_iterations >= 1, sc->comm, PETSC_ERR_USER_INPUT, "-self_collision_impulse_iterations must be at least 1, got %" PetscInt_FMT, sc->impulse_iterations);
@@ -1281,6 +1181,8 @@ PetscErrorCode ClothSelfContactSetUp(ClothSelfContact sc)
   PetscCall(PetscMalloc1(cloth->nglobal, &sc->contact_index));
   for (PetscInt g = 0; g < cloth->nglobal; g++) sc->contact_index[g] = -1;
   PetscCall(PetscCalloc2(sc->ntri + 1, &sc->tri_mark, sc->nedge + 1, &sc->edge_mark));
+  PetscCall(CellGridCreate(&sc->triangle_grid));
+  PetscCall(CellGridCreate(&sc->edge_grid));
   sc->setup = PETSC_TRUE;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -1387,6 +1289,8 @@ PetscErrorCode ClothSelfContactDestroy(ClothSelfContact *sc)
   PetscCall(PetscFree(s->contact_index));
   PetscCall(PetscFree2(s->x, s->dx));
   PetscCall(PetscFree2(s->tri_mark, s->edge_mark));
+  PetscCall(CellGridDestroy(&s->triangle_grid));
+  PetscCall(CellGridDestroy(&s->edge_grid));
   PetscCall(PetscFree2(s->contacts, s->local));
   PetscCall(PetscFree(s->extra));
   PetscCall(VecDestroy(&s->xremote));

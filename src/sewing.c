@@ -2,21 +2,23 @@
 #include "sewing.h"
 #include "seam.h"
 
-#define SEAM_BAND 2 /* grid rows around a seam where cloth-cloth contact is not applied while it is pulled closed */
+#define SEAM_BAND 2         /* grid rows around a seam where cloth-cloth contact is not applied while it is pulled closed */
+#define SEWING_MAX_SEAMS 64 /* seams of a scene: each is one bit of the uint64_t masks near and near_joined */
 
 const char *const ClothSewingPhases[] = {"pull", "settle", "ClothSewingPhase", "CLOTH_SEWING_", NULL};
 
 struct _n_ClothSewing {
   Cloth            cloth;
+  MPI_Comm         comm;  /* the cloth's */
   Scene            scene; /* seam names */
   SceneSewing      params;
   ClothSewingPhase phase;
-  PetscInt         nlinks;          /* seam links of the whole model */
-  PetscInt        *sewn;            /* per model seam link: 1 once sewn; the same on every rank */
-  PetscInt        *closed;          /* work: links this rank found closed in the last step */
-  uint64_t        *near;            /* per particle (natural): bit s set within SEAM_BAND rows of seam s */
-  uint64_t        *near_joined;     /* per particle: near, plus every seam sharing a particle with one of those */
-  PetscInt        *partner_offset;  /* CSR per particle (natural): the particles a seam link joins it to */
+  PetscInt         nlinks;         /* seam links of the whole model */
+  PetscInt        *sewn;           /* per model seam link: 1 once sewn; the same on every rank */
+  PetscInt        *closed;         /* work: links this rank found closed in the last step */
+  uint64_t        *near;           /* per particle (natural): bit s set within SEAM_BAND rows of seam s */
+  uint64_t        *near_joined;    /* per particle: near, plus every seam sharing a particle with one of those */
+  PetscInt        *partner_offset; /* CSR per particle (natural): the particles a seam link joins it to */
   PetscInt        *partner;
   PetscReal        max_time;
 };
@@ -25,11 +27,11 @@ struct _n_ClothSewing {
 static PetscErrorCode ClothSewingMarkSeamBands(ClothSewing s, Scene scene, ClothModel model)
 {
   PetscFunctionBeginUser;
-  PetscCheck(scene->nseams <= 64, PETSC_COMM_WORLD, PETSC_ERR_SUP, "At most 64 seams are supported, the scene has %" PetscInt_FMT, scene->nseams);
+  PetscCheck(scene->nseams <= SEWING_MAX_SEAMS, s->comm, PETSC_ERR_SUP, "At most %d seams are supported, the scene has %" PetscInt_FMT, SEWING_MAX_SEAMS, scene->nseams);
   PetscCall(PetscCalloc1(model->nparticles, &s->near));
   for (PetscInt l = 0; l < model->nseamlinks; l++)
     for (PetscInt k = 0; k < model->seamlinks[l].np; k++) {
-      const PetscInt g = model->seamlinks[l].p[k];
+      const PetscInt g     = model->seamlinks[l].p[k];
       PetscInt       piece = 0;
       while (model->piece_offset[piece + 1] <= g) piece++;
       {
@@ -48,19 +50,19 @@ static PetscErrorCode ClothSewingMarkSeamBands(ClothSewing s, Scene scene, Cloth
    does not repel one near a seam that shares a particle with s. */
 static PetscErrorCode ClothSewingMarkJoinedBands(ClothSewing s, ClothModel model)
 {
-  uint64_t *seams_of, joined[64];
+  uint64_t *seams_of, joined[SEWING_MAX_SEAMS];
 
   PetscFunctionBeginUser;
   PetscCall(PetscCalloc1(model->nparticles, &seams_of));
   for (PetscInt l = 0; l < model->nseamlinks; l++)
     for (PetscInt k = 0; k < model->seamlinks[l].np; k++) seams_of[model->seamlinks[l].p[k]] |= (uint64_t)1 << model->seamlinks[l].seam;
-  for (PetscInt b = 0; b < 64; b++) joined[b] = (uint64_t)1 << b;
+  for (PetscInt b = 0; b < SEWING_MAX_SEAMS; b++) joined[b] = (uint64_t)1 << b;
   for (PetscInt g = 0; g < model->nparticles; g++)
-    for (PetscInt b = 0; b < 64; b++)
+    for (PetscInt b = 0; b < SEWING_MAX_SEAMS; b++)
       if (seams_of[g] >> b & 1) joined[b] |= seams_of[g];
   PetscCall(PetscCalloc1(model->nparticles, &s->near_joined));
   for (PetscInt g = 0; g < model->nparticles; g++)
-    for (PetscInt b = 0; b < 64; b++)
+    for (PetscInt b = 0; b < SEWING_MAX_SEAMS; b++)
       if (s->near[g] >> b & 1) s->near_joined[g] |= joined[b];
   PetscCall(PetscFree(seams_of));
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -86,7 +88,7 @@ static PetscErrorCode ClothSewingBuildPartners(ClothSewing s, ClothModel model)
     const ClothSeamLink *link = &model->seamlinks[l];
     const PetscInt       a    = link->p[0];
     for (PetscInt k = 1; k < link->np; k++) {
-      const PetscInt b = link->p[k];
+      const PetscInt b                              = link->p[k];
       s->partner[s->partner_offset[a] + count[a]++] = b;
       s->partner[s->partner_offset[b] + count[b]++] = a;
     }
@@ -124,7 +126,8 @@ PetscErrorCode ClothSewingCreate(Cloth cloth, Scene scene, ClothSewing *sewing)
   PetscFunctionBeginUser;
   PetscCall(PetscNew(&s));
   PetscCall(ClothGetModel(cloth, &model));
-  s->cloth    = cloth;
+  s->cloth = cloth;
+  PetscCall(ClothGetComm(cloth, &s->comm));
   s->scene    = scene;
   s->params   = scene->sewing;
   s->phase    = CLOTH_SEWING_PULL;
@@ -141,7 +144,7 @@ PetscErrorCode ClothSewingCreate(Cloth cloth, Scene scene, ClothSewing *sewing)
 PetscErrorCode ClothSewingSetFromOptions(ClothSewing sewing)
 {
   PetscFunctionBeginUser;
-  PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Sewing (garment assembly)", "ClothSewing");
+  PetscOptionsBegin(sewing->comm, NULL, "Sewing (garment assembly)", "ClothSewing");
   PetscCall(PetscOptionsReal("-sewing_max_time", "Seconds of pulling after which gravity comes on even if pairs are still open", "ClothSewingUpdate", sewing->max_time, &sewing->max_time, NULL));
   PetscOptionsEnd();
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -150,10 +153,10 @@ PetscErrorCode ClothSewingSetFromOptions(ClothSewing sewing)
 /* Seam stiffnesses and gravity for the current phase and sewn set. */
 static PetscErrorCode ClothSewingApply(ClothSewing sewing)
 {
-  ClothModel       model;
-  ClothSeamLink   *links;
-  const PetscInt  *model_index;
-  PetscInt         n;
+  ClothModel      model;
+  ClothSeamLink  *links;
+  const PetscInt *model_index;
+  PetscInt        n;
 
   PetscFunctionBeginUser;
   PetscCall(ClothGetModel(sewing->cloth, &model));
@@ -216,18 +219,19 @@ PetscErrorCode ClothSewingUpdate(ClothSewing sewing, PetscReal time)
   PetscFunctionBeginUser;
   if (sewing->nlinks == 0 || sewing->phase == CLOTH_SEWING_SETTLE) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(ClothSewingMeasure(sewing, &local_gap));
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, sewing->closed, (PetscMPIInt)sewing->nlinks, MPIU_INT, MPI_MAX, PETSC_COMM_WORLD));
-  PetscCallMPI(MPI_Allreduce(&local_gap, &max_gap, 1, MPIU_REAL, MPIU_MAX, PETSC_COMM_WORLD));
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, sewing->closed, (PetscMPIInt)sewing->nlinks, MPIU_INT, MPI_MAX, sewing->comm));
+  PetscCallMPI(MPI_Allreduce(&local_gap, &max_gap, 1, MPIU_REAL, MPIU_MAX, sewing->comm));
   for (PetscInt l = 0; l < sewing->nlinks; l++) {
     sewing->sewn[l] = PetscMax(sewing->sewn[l], sewing->closed[l]);
     nsewn += sewing->sewn[l];
   }
   if (nsewn == sewing->nlinks) {
     sewing->phase = CLOTH_SEWING_SETTLE;
-    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "Sewing: all %" PetscInt_FMT " seam pairs sewn at t = %.4f s; gravity on\n", sewing->nlinks, (double)time));
+    PetscCall(PetscPrintf(sewing->comm, "Sewing: all %" PetscInt_FMT " seam pairs sewn at t = %.4f s; gravity on\n", sewing->nlinks, (double)time));
   } else if (time >= sewing->max_time) {
     sewing->phase = CLOTH_SEWING_SETTLE;
-    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "WARNING: sewing time %.3f s reached with %" PetscInt_FMT " of %" PetscInt_FMT " seam pairs open (widest gap %.4f m); gravity on, the open pairs keep pulling\n", (double)time, sewing->nlinks - nsewn, sewing->nlinks, (double)max_gap));
+    PetscCall(PetscPrintf(sewing->comm, "WARNING: sewing time %.3f s reached with %" PetscInt_FMT " of %" PetscInt_FMT " seam pairs open (widest gap %.4f m); gravity on, the open pairs keep pulling\n", (double)time, sewing->nlinks - nsewn,
+                          sewing->nlinks, (double)max_gap));
   }
   PetscCall(ClothSewingApply(sewing));
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -240,7 +244,7 @@ PetscErrorCode ClothSewingGetStatus(ClothSewing sewing, ClothSewingPhase *phase,
 
   PetscFunctionBeginUser;
   PetscCall(ClothSewingMeasure(sewing, &local_gap));
-  if (max_gap) PetscCallMPI(MPI_Allreduce(&local_gap, max_gap, 1, MPIU_REAL, MPIU_MAX, PETSC_COMM_WORLD));
+  if (max_gap) PetscCallMPI(MPI_Allreduce(&local_gap, max_gap, 1, MPIU_REAL, MPIU_MAX, sewing->comm));
   for (PetscInt l = 0; l < sewing->nlinks; l++) count += sewing->sewn[l];
   if (phase) *phase = sewing->phase;
   if (sewn) *sewn = count;
@@ -269,8 +273,8 @@ PetscErrorCode ClothSewingViewWidest(ClothSewing sewing, PetscInt n)
     gap[model_index[l]] = ClothSeamLinkGap(&links[l], xs);
   }
   PetscCall(ClothRestoreLocalPositionArray(sewing->cloth, &x));
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, gap, (PetscMPIInt)sewing->nlinks, MPIU_REAL, MPIU_MAX, PETSC_COMM_WORLD));
-  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "Widest seam pairs (seam: node - the point it is sewn to, between nodes with weights):\n"));
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, gap, (PetscMPIInt)sewing->nlinks, MPIU_REAL, MPIU_MAX, sewing->comm));
+  PetscCall(PetscPrintf(sewing->comm, "Widest seam pairs (seam: node - the point it is sewn to, between nodes with weights):\n"));
   for (PetscInt r = 0; r < PetscMin(n, sewing->nlinks); r++) {
     const ClothSeamLink *link;
     PetscInt             widest = 0;
@@ -280,8 +284,10 @@ PetscErrorCode ClothSewingViewWidest(ClothSewing sewing, PetscInt n)
       if (gap[l] > gap[widest]) widest = l;
     link = &model->seamlinks[widest];
     for (PetscInt k = 0; k < link->np; k++) PetscCall(ClothGetParticleName(sewing->cloth, link->p[k], name[k], sizeof(name[k])));
-    if (link->np == 2) PetscCall(PetscPrintf(PETSC_COMM_WORLD, "  %6.2f mm  %s: %s - %s\n", (double)(1e3 * gap[widest]), sewing->scene->seams[link->seam].name, name[0], name[1]));
-    else PetscCall(PetscPrintf(PETSC_COMM_WORLD, "  %6.2f mm  %s: %s - %.2f %s + %.2f %s\n", (double)(1e3 * gap[widest]), sewing->scene->seams[link->seam].name, name[0], (double)-link->c[1], name[1], (double)-link->c[2], name[2]));
+    if (link->np == 2)
+      PetscCall(PetscPrintf(sewing->comm, "  %6.2f mm  %s: %s - %s\n", (double)(1e3 * gap[widest]), sewing->scene->seams[link->seam].name, name[0], name[1]));
+    else
+      PetscCall(PetscPrintf(sewing->comm, "  %6.2f mm  %s: %s - %.2f %s + %.2f %s\n", (double)(1e3 * gap[widest]), sewing->scene->seams[link->seam].name, name[0], (double)-link->c[1], name[1], (double)-link->c[2], name[2]));
     gap[widest] = -1;
   }
   PetscCall(PetscFree(gap));
@@ -296,7 +302,7 @@ PetscErrorCode ClothSewingGetStateVec(ClothSewing sewing, Vec sewn)
 
   PetscFunctionBeginUser;
   PetscCall(ClothGetModel(sewing->cloth, &model));
-  PetscCheck(model->nseamlinks == 0 || sewing->nlinks == model->nseamlinks, PETSC_COMM_WORLD, PETSC_ERR_PLIB, "Sewing state and model disagree");
+  PetscCheck(model->nseamlinks == 0 || sewing->nlinks == model->nseamlinks, sewing->comm, PETSC_ERR_PLIB, "Sewing state and model disagree");
   PetscCall(VecZeroEntries(sewn));
   PetscCall(VecGetOwnershipRange(sewn, &lo, &hi));
   PetscCall(VecGetArray(sewn, &a));

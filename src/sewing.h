@@ -1,4 +1,4 @@
-/* ClothSewing: the phases of garment assembly (MODEL.md section 7).
+/* ClothSewing: the phases of garment assembly (docs/model.md section 7).
 
    Phase "pull": gravity is off and every seam pair is pulled towards the midpoint between its two
    points (seam.h). A pair whose gap falls below the tolerance is sewn: from then on a stiff spring

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Checks a clothsim final checkpoint against DESIGN.md's "Files written" contract, with h5py.
+"""Checks a clothsim final checkpoint against the layout of docs/checkpoint.md, with h5py.
 
   check_final_checkpoint.py FILE --particles N --step S --time T [--pins I,J,...] [--compare OTHER --atol A]
 

@@ -7,7 +7,7 @@ mpiexec=$1 ranks=$2 program=$3 dir=$4
 here=$(cd "$(dirname "$0")" && pwd)
 pvpython=${PVPYTHON:-/usr/bin/pvpython}
 if [ ! -x "$pvpython" ]; then
-  echo "check_xdmf.sh: $pvpython not found: install paraview and python3-paraview (see TOOLCHAIN / setup)" >&2
+  echo "check_xdmf.sh: $pvpython not found: install paraview and python3-paraview (scripts/install_deps.sh)" >&2
   exit 1
 fi
 

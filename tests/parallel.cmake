@@ -1,5 +1,6 @@
 # Parallel distribution (src/cloth.c, src/partition.c, issue 3), each on 1, 2, 3 and 4 ranks
-# (oversubscribed on small machines), for the hanging sheet and a two-piece scene with angle springs:
+# (oversubscribed on small machines), for the hanging sheet, a two-piece scene with angle springs and
+# (forces) two pieces joined by a seam of 9 to 13 nodes (interpolated seam links):
 # - parallel_forces: every interaction evaluated exactly once; forces and energy equal a serial
 #   brute-force evaluation of the whole model (test_partition.c);
 # - parallel_preallocation: the implicit matrix, BAIJ and SBAIJ, assembled without mallocs and with
@@ -11,6 +12,8 @@ foreach(ranks 1 2 3 4)
                         -scene input/hanging_sheet.yaml -grid 17)
   clothsim_add_mpi_test(parallel_forces_two_pieces_np${ranks} ${ranks} $<TARGET_FILE:test_partition>
                         -scene tests/data/jacobian_two_pieces.yaml)
+  clothsim_add_mpi_test(parallel_forces_seams_np${ranks} ${ranks} $<TARGET_FILE:test_partition>
+                        -scene tests/data/seam_two_pieces.yaml)
   clothsim_add_mpi_test(parallel_preallocation_sheet_np${ranks} ${ranks} $<TARGET_FILE:test_preallocation>
                         -scene input/hanging_sheet.yaml -grid 17)
   clothsim_add_mpi_test(parallel_preallocation_two_pieces_np${ranks} ${ranks} $<TARGET_FILE:test_preallocation>

@@ -1,6 +1,6 @@
 # shellcheck shell=bash
 # Sourced by the Slurm tests: starts a private single-node Slurm (slurmctld + slurmd on localhost, no
-# munge, no cgroups; the configuration of ../shared/TOOLCHAIN.md) in a temporary directory and stops it
+# munge, no cgroups; a minimal slurm.conf written here) in a temporary directory and stops it
 # again. Usage:
 #   source tests/slurm_cluster.sh
 #   slurm_cluster_start DIR || exit 77     # sets SLURM_CONF; on failure prints why and returns 1

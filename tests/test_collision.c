@@ -4,7 +4,8 @@
    -expect_verified_at_least N   with -collision_verify, the grid and brute-force searches agreed on at least N
                                  crossings (a difference stops the run with an error at once);
    -expect_contacts_at_least N   at least N particles in contact at the last step (the cloth did land).
-   Prints the measured counts on rank 0; they do not depend on the number of ranks. */
+   Any other -expect_* option is refused. Prints the measured counts on rank 0; they do not depend on the
+   number of ranks. */
 #include "scene.h"
 #include "run.h"
 #include "test_support.h"
@@ -21,6 +22,7 @@ int main(int argc, char **argv)
   PetscCall(PetscOptionsGetInt(NULL, NULL, "-expect_inside_at_most", &inside_max, NULL));
   PetscCall(PetscOptionsGetInt(NULL, NULL, "-expect_verified_at_least", &verified_min, NULL));
   PetscCall(PetscOptionsGetInt(NULL, NULL, "-expect_contacts_at_least", &contacts_min, NULL));
+  PetscCall(TestCheckExpectationsUsed());
   PetscCall(TestRunFromOptions(&scene, &run));
   PetscCall(ClothRunGetCollision(run, &collision));
   PetscCheck(collision, PETSC_COMM_WORLD, PETSC_ERR_USER_INPUT, "scene %s has no bodies", scene->path);

@@ -15,24 +15,22 @@
      element, so the springs cover the length less half a segment at either end. B is the slope of M
      between 0.5 and 1.5 1/cm, 2HB the loop's width at +-1 1/cm.
    Options: -expect_G, -expect_2HG (gf/cm/degree, gf/cm), -expect_B_warp, -expect_B_weft (gf cm^2/cm),
-   -expect_2HB_warp, -expect_2HB_weft (gf cm/cm), -rtol (default 0.02). Prints the measured values. */
+   -expect_2HB_warp, -expect_2HB_weft (gf cm/cm), all required, -rtol (default 0.02); any other -expect_*
+   option is refused. Prints the measured values. */
 #include <petscsys.h>
 #include "fabric.h"
+#include "test_support.h"
 #include "model.h"
 
 #define LOOP_INCREMENTS 400 /* per quarter of the loop */
 
-typedef enum {
-  LOOP_SHEAR,
-  LOOP_BEND_WARP,
-  LOOP_BEND_WEFT
-} LoopKind;
+typedef enum { LOOP_SHEAR, LOOP_BEND_WARP, LOOP_BEND_WEFT } LoopKind;
 
 typedef struct {
-  PetscInt  offset, n;        /* the piece's particles in natural order */
-  PetscReal *flat;            /* 3 n: their flat positions */
-  PetscReal *x, *dxdp;        /* 3 n: deformed positions and their derivative by the loop's parameter */
-  PetscReal area;             /* the area F or M is per (see above) */
+  PetscInt   offset, n; /* the piece's particles in natural order */
+  PetscReal *flat;      /* 3 n: their flat positions */
+  PetscReal *x, *dxdp;  /* 3 n: deformed positions and their derivative by the loop's parameter */
+  PetscReal  area;      /* the area F or M is per (see above) */
 } Specimen;
 
 /* Whether an angle element of the model belongs to the loop: the piece's cell shear elements, or its
@@ -156,9 +154,12 @@ static PetscErrorCode SpecimenCreate(Scene scene, ClothModel model, const char n
   sp->n      = model->piece_offset[index + 1] - sp->offset;
   PetscCall(PetscMalloc3(3 * sp->n, &sp->flat, 3 * sp->n, &sp->x, 3 * sp->n, &sp->dxdp));
   PetscCall(PetscArraycpy(sp->flat, &model->position[3 * sp->offset], 3 * sp->n));
-  if (kind == LOOP_SHEAR) sp->area = piece->size[0] * piece->size[1];
-  else if (kind == LOOP_BEND_WARP) sp->area = piece->size[1] * piece->size[0] * (piece->nu - 2) / (piece->nu - 1);
-  else sp->area = piece->size[0] * piece->size[1] * (piece->nv - 2) / (piece->nv - 1);
+  if (kind == LOOP_SHEAR)
+    sp->area = piece->size[0] * piece->size[1];
+  else if (kind == LOOP_BEND_WARP)
+    sp->area = piece->size[1] * piece->size[0] * (piece->nu - 2) / (piece->nu - 1);
+  else
+    sp->area = piece->size[0] * piece->size[1] * (piece->nv - 2) / (piece->nv - 1);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -176,10 +177,9 @@ static PetscErrorCode CheckValue(const char what[], PetscReal measured, const ch
 
   PetscFunctionBeginUser;
   PetscCall(PetscOptionsGetReal(NULL, NULL, option, &expected, &set));
-  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%s: %.6g %s", what, (double)measured, unit));
-  if (set) PetscCall(PetscPrintf(PETSC_COMM_WORLD, " (given %.6g, relative %+.2e)", (double)expected, (double)(measured / expected - 1)));
-  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "\n"));
-  PetscCheck(!set || PetscAbsReal(measured / expected - 1) <= rtol, PETSC_COMM_SELF, PETSC_ERR_PLIB, "%s %g %s differs from the given %g by more than %g", what, (double)measured, unit, (double)expected, (double)rtol);
+  PetscCheck(set, PETSC_COMM_WORLD, PETSC_ERR_USER_INPUT, "%s measured %g %s, but no %s given: every value of this test must be checked", what, (double)measured, unit, option);
+  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%s: %.6g %s (given %.6g, relative %+.2e)\n", what, (double)measured, unit, (double)expected, (double)(measured / expected - 1)));
+  PetscCheck(PetscAbsReal(measured / expected - 1) <= rtol, PETSC_COMM_SELF, PETSC_ERR_PLIB, "%s %g %s differs from the given %g by more than %g", what, (double)measured, unit, (double)expected, (double)rtol);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -216,6 +216,7 @@ int main(int argc, char **argv)
   PetscCall(CheckValue("KES-FB2 B weft", slope / FABRIC_KES_BEND_SI, "-expect_B_weft", "gf cm^2/cm", rtol));
   PetscCall(CheckValue("KES-FB2 2HB weft", width / FABRIC_KES_MOMENT_SI, "-expect_2HB_weft", "gf cm/cm", rtol));
   PetscCall(SpecimenDestroy(&sp));
+  PetscCall(TestCheckExpectationsUsed());
 
   PetscCall(ClothModelDestroy(&model));
   PetscCall(SceneDestroy(&scene));

@@ -3,6 +3,8 @@
    Options: -scene FILE [-grid N]. On any number of ranks, checks that
    - every interaction is evaluated exactly once: the links and angle springs the ranks evaluate
      (ClothGetInteractionCounts) sum to the model's totals;
+   - seam links (scenes with seams) get stiffnesses, half of them as sewn springs and half pulling, so
+     that they take part in the comparison below (without a sewing object they would carry nothing);
    - at a perturbed state (the same, particle by particle, on every rank count), the forces of
      ClothComputeForces, brought to natural order, equal the sum over every interaction of the model
      evaluated serially on each rank, plus gravity and damping, to 1e-12 relative to the largest
@@ -69,6 +71,30 @@ static PetscErrorCode GatherNatural(Cloth cloth, Vec solver, PetscReal **all)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* Gives every seam link a force, the same on every rank count: even-numbered ones are sewn springs
+   (pull_force 0), odd ones pull with a constant force that softens within 1 cm (seam.h), as the sewing
+   phases would set them. The model's links (the serial reference) and this rank's copies agree. */
+static PetscErrorCode SetSeamStiffnesses(Cloth cloth, ClothModel model)
+{
+  ClothSeamLink  *links;
+  const PetscInt *model_index;
+  PetscInt        n;
+
+  PetscFunctionBeginUser;
+  for (PetscInt s = 0; s < model->nseamlinks; s++) {
+    ClothSeamLink *link = &model->seamlinks[s];
+
+    link->pull_force = s % 2 ? 0.01 * (1 + 0.1 * (PetscReal)(s % 7)) : 0;
+    link->k          = s % 2 ? link->pull_force / 0.01 : 500 + 10 * (PetscReal)(s % 5);
+  }
+  PetscCall(ClothGetSeamLinks(cloth, &n, &links, &model_index));
+  for (PetscInt l = 0; l < n; l++) {
+    links[l].pull_force = model->seamlinks[model_index[l]].pull_force;
+    links[l].k          = model->seamlinks[model_index[l]].k;
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 /* Forces (3 N, natural order) and elastic energy of the whole model at (x, v), evaluated serially. */
 static PetscErrorCode SerialForces(ClothModel model, const PetscReal gravity[3], const PetscReal x[], const PetscReal v[], PetscReal f[], PetscReal *energy)
 {
@@ -95,6 +121,16 @@ static PetscErrorCode SerialForces(ClothModel model, const PetscReal gravity[3],
     PetscCall(ClothAngleEvaluate(angle, xs, CLOTH_STIFFNESS_GAUSS_NEWTON, &e, fa, NULL));
     for (PetscInt k = 0; k < np; k++)
       for (PetscInt c = 0; c < 3; c++) f[3 * angle->p[k] + c] += fa[3 * k + c];
+    *energy += e;
+  }
+  for (PetscInt s = 0; s < model->nseamlinks; s++) {
+    const ClothSeamLink *link = &model->seamlinks[s];
+    const PetscReal     *xs[CLOTH_SEAM_LINK_MAX_PARTICLES];
+    PetscReal            e, fs[3 * CLOTH_SEAM_LINK_MAX_PARTICLES];
+    for (PetscInt k = 0; k < link->np; k++) xs[k] = &x[3 * link->p[k]];
+    PetscCall(ClothSeamLinkEvaluate(link, xs, &e, fs, NULL));
+    for (PetscInt k = 0; k < link->np; k++)
+      for (PetscInt c = 0; c < 3; c++) f[3 * link->p[k] + c] += fs[3 * k + c];
     *energy += e;
   }
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -156,6 +192,7 @@ int main(int argc, char **argv)
   PetscCall(TestClothFromOptions(&scene, &cloth));
   PetscCall(ClothGetModel(cloth, &model));
   PetscCall(CheckInteractionCounts(cloth, model));
+  PetscCall(SetSeamStiffnesses(cloth, model));
   PetscCall(SetPerturbedState(cloth, model));
   PetscCall(CheckAgainstSerial(cloth, scene, model));
   PetscCall(ClothDestroy(&cloth));

@@ -21,6 +21,7 @@
 #include "model.h"
 #include "pattern.h"
 #include "vec3.h"
+#include "test_support.h"
 
 static PetscErrorCode CheckClose(PetscReal value, PetscReal expected, PetscReal rtol, const char what[])
 {
@@ -265,8 +266,9 @@ static PetscErrorCode CheckSmoothPerturbation(const char path[])
       dd[c] = d[3 * p[1] + c] - d[3 * p[0] + c];
     }
     if (model->pinned[p[0]] || model->pinned[p[1]]) continue;
-    PetscCheck(PetscSqrtReal(Dot3(dd, dd)) <= 2 * PETSC_PI * amplitude * PetscSqrtReal(Dot3(e, e)) / wavelength * (1 + 1e-9), PETSC_COMM_SELF, PETSC_ERR_PLIB, "smooth imperfections: particles %" PetscInt_FMT " and %" PetscInt_FMT " differ by %g m over %g m, steeper than wavelength %g m allows",
-               p[0], p[1], (double)PetscSqrtReal(Dot3(dd, dd)), (double)PetscSqrtReal(Dot3(e, e)), (double)wavelength);
+    PetscCheck(PetscSqrtReal(Dot3(dd, dd)) <= 2 * PETSC_PI * amplitude * PetscSqrtReal(Dot3(e, e)) / wavelength * (1 + 1e-9), PETSC_COMM_SELF, PETSC_ERR_PLIB,
+               "smooth imperfections: particles %" PetscInt_FMT " and %" PetscInt_FMT " differ by %g m over %g m, steeper than wavelength %g m allows", p[0], p[1], (double)PetscSqrtReal(Dot3(dd, dd)), (double)PetscSqrtReal(Dot3(e, e)),
+               (double)wavelength);
   }
   for (PetscInt i = 0; i < model->nparticles; i++) {
     const PetscReal h = PetscSqrtReal(Dot3(&d[3 * i], &d[3 * i]));
@@ -290,8 +292,8 @@ static PetscErrorCode CheckSmoothPerturbation(const char path[])
         const PetscInt coarse = j * n + i, same = 2 * j * (2 * n - 1) + 2 * i;
 
         for (PetscInt c = 0; c < 3; c++)
-          PetscCheck(PetscAbsReal(d[3 * coarse + c] - df[3 * same + c]) <= 1e-9 * amplitude, PETSC_COMM_SELF, PETSC_ERR_PLIB, "smooth imperfections: node (%" PetscInt_FMT ", %" PetscInt_FMT ") of grid %" PetscInt_FMT " moved %g m, the same node of grid %" PetscInt_FMT " %g m", i, j, n, (double)d[3 * coarse + c], 2 * n - 1,
-                     (double)df[3 * same + c]);
+          PetscCheck(PetscAbsReal(d[3 * coarse + c] - df[3 * same + c]) <= 1e-9 * amplitude, PETSC_COMM_SELF, PETSC_ERR_PLIB,
+                     "smooth imperfections: node (%" PetscInt_FMT ", %" PetscInt_FMT ") of grid %" PetscInt_FMT " moved %g m, the same node of grid %" PetscInt_FMT " %g m", i, j, n, (double)d[3 * coarse + c], 2 * n - 1, (double)df[3 * same + c]);
       }
     PetscCall(ClothModelDestroy(&fine));
     PetscCall(PetscFree(df));
@@ -305,7 +307,7 @@ static PetscErrorCode CheckSmoothPerturbation(const char path[])
 int main(int argc, char **argv)
 {
   char      path[PETSC_MAX_PATH_LEN];
-  PetscBool has_scene;
+  PetscBool has_scene, has_area;
   PetscReal area = 0, rtol = 1e-2;
 
   PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
@@ -314,8 +316,10 @@ int main(int argc, char **argv)
   PetscCall(CheckKES());
   PetscCall(CheckPresets());
   PetscCall(PetscOptionsGetString(NULL, NULL, "-scene", path, sizeof(path), &has_scene));
-  PetscCall(PetscOptionsGetReal(NULL, NULL, "-expect_area", &area, NULL));
+  PetscCall(PetscOptionsGetReal(NULL, NULL, "-expect_area", &area, &has_area));
   PetscCall(PetscOptionsGetReal(NULL, NULL, "-area_rtol", &rtol, NULL));
+  PetscCheck(has_scene == has_area, PETSC_COMM_WORLD, PETSC_ERR_USER_INPUT, "-scene and -expect_area go together (the scene's outline area is checked against it)");
+  PetscCall(TestCheckExpectationsUsed());
   if (has_scene) PetscCall(CheckSceneAreas(path, area, rtol));
   if (has_scene) PetscCall(CheckPerturbation(path));
   if (has_scene) PetscCall(CheckSmoothPerturbation(path));

@@ -54,3 +54,21 @@ PetscErrorCode TestRunFromOptions(Scene *scene, ClothRun *run)
   PetscCall(ClothRunSetUp(*run));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
+
+PetscErrorCode TestCheckExpectationsUsed(void)
+{
+  PetscInt N;
+  char   **names, **values;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsLeftGet(NULL, &N, &names, &values));
+  for (PetscInt i = 0; i < N; i++) {
+    const char *name = names[i][0] == '-' ? names[i] + 1 : names[i];
+    PetscBool   expectation;
+
+    PetscCall(PetscStrncmp(name, "expect_", 7, &expectation));
+    PetscCheck(!expectation, PETSC_COMM_WORLD, PETSC_ERR_USER_INPUT, "The option -%s %s was given but this test reads no such expectation (misspelled, or not meaningful here)", name, values[i] ? values[i] : "");
+  }
+  PetscCall(PetscOptionsLeftRestore(NULL, &N, &names, &values));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}

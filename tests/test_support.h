@@ -11,3 +11,6 @@ PetscErrorCode TestPerturbState(Cloth cloth, PetscInt seed, PetscReal amplitude,
 PetscErrorCode TestClothFromOptions(Scene *scene, Cloth *cloth);
 /* Reads -scene FILE (required) and creates and sets up a run from the options, ready to solve. Collective. */
 PetscErrorCode TestRunFromOptions(Scene *scene, ClothRun *run);
+/* Refuses -expect_* options that nothing read (a misspelled expectation would otherwise turn a test into
+   "runs without crashing"). Call at the end, after every expectation has been read. Collective. */
+PetscErrorCode TestCheckExpectationsUsed(void);
