@@ -224,6 +224,13 @@ def convergence(args):
         if ns and curves:
             ref = max(p[1] for pts in curves.values() for p in pts if p[0] == ns[0])
             ax.loglog(ns, [100 * ref * ns[0] / n for n in ns], "k--", lw=0.8, label="first order (1/N)")
+        from matplotlib.ticker import FixedLocator, NullLocator, ScalarFormatter
+
+        ax.xaxis.set_major_locator(FixedLocator(ns))
+        ax.xaxis.set_minor_locator(NullLocator())
+        ax.xaxis.set_major_formatter(ScalarFormatter())
+        ax.yaxis.set_major_formatter(ScalarFormatter())
+        ax.yaxis.set_minor_formatter(ScalarFormatter())
         ax.set_xlabel("segments along the overhang N")
         ax.set_ylabel("|error of c| against the exact elastica, %")
         ax.set_title("Cantilever (ASTM D1388): grid convergence")
