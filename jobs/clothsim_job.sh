@@ -5,7 +5,8 @@
 #
 # Settings (environment; the batch scripts give their own defaults):
 #   CLOTHSIM_ROOT     the clothsim source tree (default: the directory sbatch was called from)
-#   CLOTHSIM          the binary (default: $CLOTHSIM_ROOT/build/clothsim)
+#   CLOTHSIM          the binary (default: $CLOTHSIM_ROOT/build/clothsim; in an installed copy, where
+#                     CLOTHSIM_ROOT is PREFIX/share/clothsim, PREFIX/bin/clothsim)
 #   MPIEXEC           the MPI launcher (default: mpirun)
 #   MPIEXEC_FLAGS     extra launcher flags, e.g. "--bind-to core" (default: none)
 #   RANKS             MPI ranks (default: $SLURM_NTASKS, else 1)
@@ -25,7 +26,11 @@
 # it finishes its step, writes DIR/checkpoint_NNNNNN.h5 and exits with status 0.
 
 CLOTHSIM_ROOT=${CLOTHSIM_ROOT:-${SLURM_SUBMIT_DIR:-$PWD}}
-CLOTHSIM=${CLOTHSIM:-$CLOTHSIM_ROOT/build/clothsim}
+if [ -z "${CLOTHSIM:-}" ]; then
+  CLOTHSIM=$CLOTHSIM_ROOT/build/clothsim
+  # an installed copy (cmake --install build --prefix PREFIX): CLOTHSIM_ROOT=PREFIX/share/clothsim
+  [ -x "$CLOTHSIM" ] || [ ! -x "$CLOTHSIM_ROOT/../../bin/clothsim" ] || CLOTHSIM=$(cd "$CLOTHSIM_ROOT/../../bin" && pwd)/clothsim
+fi
 MPIEXEC=${MPIEXEC:-mpirun}
 MPIEXEC_FLAGS=${MPIEXEC_FLAGS:-}
 RANKS=${RANKS:-${SLURM_NTASKS:-1}}

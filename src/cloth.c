@@ -386,13 +386,6 @@ PetscErrorCode ClothCreateStateVec(Cloth cloth, Vec *v)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode ClothGetComm(Cloth cloth, MPI_Comm *comm)
-{
-  PetscFunctionBeginUser;
-  *comm = cloth->comm;
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
 PetscErrorCode ClothGetSizes(Cloth cloth, PetscInt *nlocal, PetscInt *nglobal)
 {
   PetscFunctionBeginUser;

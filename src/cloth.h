@@ -35,8 +35,6 @@ PetscErrorCode ClothDestroy(Cloth *cloth);
 
 /* The state: position and velocity, ghosted Vecs with block size 3 in solver numbering (borrowed). */
 PetscErrorCode ClothGetState(Cloth cloth, Vec *position, Vec *velocity);
-/* The communicator the cloth lives on (every object that works on it uses this one). */
-PetscErrorCode ClothGetComm(Cloth cloth, MPI_Comm *comm);
 /* A new ghosted Vec with the state's layout (forces, work). */
 PetscErrorCode ClothCreateStateVec(Cloth cloth, Vec *v);
 PetscErrorCode ClothGetSizes(Cloth cloth, PetscInt *nlocal, PetscInt *nglobal);

@@ -11,3 +11,9 @@ foreach(ranks 1 2 3)
                            ${CMAKE_CURRENT_BINARY_DIR}/io_output_np${ranks})
   set_tests_properties(io_output_xdmf_np${ranks} PROPERTIES PROCESSORS ${ranks})
 endforeach()
+
+# cmake --install into a temporary prefix; the installed jobs/main_job.sbatch runs the main job's scene (the dress on
+# the mannequin) for 3 steps from a directory outside the trees, with the installed binary and postprocess tools
+# (tests/install_run.sh; README, "Installing").
+clothsim_add_script_test(install_run install_run.sh ${MPIEXEC_EXECUTABLE} ${CMAKE_CURRENT_BINARY_DIR}/install_run)
+set_tests_properties(install_run PROPERTIES TIMEOUT 120)

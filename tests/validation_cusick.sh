@@ -18,7 +18,7 @@ for preset in "$@"; do
   sed "s/preset: cotton_polyester .*/preset: $preset/" input/cusick_drape.yaml > "$out/cusick_$preset.yaml"
   for n in "${grids[@]}"; do
     dir="$out/${preset}_$n"
-    mpiexec -n 1 "$CLOTHSIM" -scene "$out/cusick_$preset.yaml" -grid "$n" -dt 0.02 -t_final 4 -output_every 0 -output_dir "$dir" -pc_type cholesky -progress_seconds 100 > "$dir.log" 2>&1 || { tail -20 "$dir.log"; exit 1; }
+    mpiexec -n 1 "$CLOTHSIM" -scene "$out/cusick_$preset.yaml" -grid "$n" -dt 0.02 -t_final 4 -output_every 0 -output_dir "$dir" -implicit_mat_type aij -pc_type cholesky -progress_seconds 100 > "$dir.log" 2>&1 || { tail -20 "$dir.log"; exit 1; }
     dc[$preset,$n]=$($py postprocess/cusick_drape.py "$(ls "$dir"/checkpoint_*.h5 | tail -1)" --scene "$out/cusick_$preset.yaml" --grid "$n" --json | $py -c 'import json,sys; print(json.load(sys.stdin)["drape_coefficient"])')
     echo "$preset grid $n: DC ${dc[$preset,$n]}"
   done
