@@ -1,10 +1,12 @@
 #!/bin/bash
 # The multilevel implicit solve (src/preconditioner.c), on the hanging sheet, 24 steps of 1/240 s, 1 rank:
 # 1. GAMG's Krylov iterations per step stay bounded and flat in the sheet's size: at most 16 per step at 65 x 65 and
-#    at 129 x 129 (measured 10.5 and 12.2), and the 129 count at most 1.5 times the 65 one (measured 1.17; point-block
+#    at 129 x 129 (measured 10.6 and 8.8), and the 129 count at most 1.5 times the 65 one (measured 0.83; point-block
 #    Jacobi's grows 2x from 65 to 129: 147 and 293 per step over a second, docs/performance.md).
 # 2. It solves the same system: GAMG and point-block Jacobi, both to rtol 1e-9, end within 1e-8 m (measured 1.4e-11 m).
 # 3. The default preconditioner is point-block Jacobi below -implicit_pc_multilevel_min_particles and GAMG from it on.
+# 4. A restart from a checkpoint continues bit for bit with GAMG (the hierarchy is rebuilt at every checkpoint, as a
+#    restart rebuilds it).
 # Usage: check_multilevel_solver.sh MPIEXEC WORKDIR      (CLOTHSIM: the binary)
 set -euo pipefail
 mpiexec=$1 work=$2
@@ -20,7 +22,7 @@ run() { # run NAME OPTIONS...: the log in $work/NAME.log, the results in $work/N
 }
 its_per_step() { sed -n 's/^Done: 24 steps (24 sub-steps), \([0-9]*\) Krylov iterations.*/\1/p' "$work/$1.log" | awk '{ printf "%.2f", $1 / 24 }'; }
 
-run gamg_65 -grid 65 -pc_type gamg
+run gamg_65 -grid 65 -pc_type gamg -checkpoint_every 12 -checkpoint_keep 0
 run gamg_129 -grid 129 -implicit_pc_multilevel_min_particles 10000
 its65=$(its_per_step gamg_65) its129=$(its_per_step gamg_129)
 [ -n "$its65" ] && [ -n "$its129" ] || fail "a run took halved sub-steps (no 'Done: 24 steps (24 sub-steps)' line)"
@@ -41,3 +43,7 @@ diff = float(np.abs(a - b).max())
 print(f"largest position difference GAMG vs point-block Jacobi (rtol 1e-9), 24 steps: {diff:.3e} m")
 sys.exit(0 if diff < 1e-8 else f"FAIL: {diff:.3e} m >= 1e-8 m")
 PY
+
+run gamg_65_restart -grid 65 -pc_type gamg -restart "$work/gamg_65/checkpoint_000012.h5"
+/usr/bin/python3 tests/compare_checkpoints.py "$work/gamg_65/checkpoint_000024.h5" "$work/gamg_65_restart/checkpoint_000024.h5" --tolerance 0 ||
+  fail "GAMG: 12 steps + restart + 12 steps differ from 24 steps"
