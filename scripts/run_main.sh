@@ -9,7 +9,7 @@ set -euo pipefail
 # idle cores. Switch the scene (and options) here; results go to output/NAME (NAME from the scene's
 # "name:") or -output_dir. For a garment (a scene with seams) the run writes quality.json, and this
 # script completes it and renders front, side and back views beside the XDMF.
-MAIN_JOB=(mpiexec -n 2 build/clothsim -scene input/dress.yaml)
+MAIN_JOB=(mpiexec -n 2 build/clothsim -scene input/dress.yaml -cloth_stiffness gauss_newton)
 
 cd "$(dirname "$0")/.."
 bash scripts/install_deps.sh

@@ -438,7 +438,7 @@ PetscErrorCode ClothCreateMatrix(Cloth cloth, Mat *A)
 PetscErrorCode ClothSetExactStiffness(Cloth cloth, PetscBool exact)
 {
   PetscFunctionBeginUser;
-  cloth->stiffness = exact ? CLOTH_STIFFNESS_EXACT : CLOTH_STIFFNESS_GAUSS_NEWTON;
+  cloth->stiffness = exact ? CLOTH_STIFFNESS_EXACT : CLOTH_STIFFNESS_PROJECTED;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# The implicit solver study (issue 22) in one command, side by side in one session on the hanging sheet
+# (jobs/bench.sh: 1 m square, pinned at two corners, dt = 1/240 s):
+#   earlier_default  CG + point-block Jacobi with the projected element stiffness (the default until 2026-11-25);
+#   default          today's default: the Gauss-Newton stiffness, point-block Jacobi below 40,000 particles, GAMG above;
+#   gamg             GAMG forced at every size;
+# and, when its environment exists (bash ../shared/peers/setup.sh newton, beside a checkout that has it), Newton's
+# semi-implicit peer at 65 and 129. Writes jobs/results/bench/bench.csv (appended), bench.png and the table in
+# docs/performance.md. Keep the machine otherwise idle: it takes about 20 minutes on 2 cores.
+#
+#   bash jobs/bench_solver.sh
+#   GRIDS="65 129" RANKS_LIST=1 bash jobs/bench_solver.sh     # a quick subset
+#
+# Environment: GRIDS (65 129 257 513), RANKS_LIST (1 2), T_FINAL_<grid> (257: 0.1 s = 24 steps, 513: 0.0125 s =
+# 3 steps; others the full second), LARGE_GRID (1025: the new default alone, 2 ranks, 3 steps; empty: skip).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+export GRIDS=${GRIDS:-65 129 257 513} RANKS_LIST=${RANKS_LIST:-1 2}
+export T_FINAL_257=${T_FINAL_257:-0.1} T_FINAL_513=${T_FINAL_513:-0.0125} T_FINAL_1025=${T_FINAL_1025:-0.0125}
+large=${LARGE_GRID-1025}
+peers=
+[[ -x ../shared/peers/.venv-newton/bin/python ]] && peers=newton
+
+PEERS= TAG=earlier_default EXTRA="-pc_type pbjacobi -cloth_stiffness projected" bash jobs/bench.sh
+PEERS= TAG=default EXTRA= bash jobs/bench.sh
+GRIDS="65 129" PEERS=$peers PEER_GRIDS="65 129" TAG=gamg EXTRA="-pc_type gamg" bash jobs/bench.sh
+if [[ -n $large ]]; then
+  GRIDS=$large RANKS_LIST=2 PEERS= TAG=default EXTRA= bash jobs/bench.sh
+fi
