@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
 # The implicit solver study (issue 22) in one command, side by side in one session on the hanging sheet
 # (jobs/bench.sh: 1 m square, pinned at two corners, dt = 1/240 s):
-#   earlier_default  CG + point-block Jacobi with the projected element stiffness (the default until 2026-11-25);
-#   default          today's default: the Gauss-Newton stiffness, point-block Jacobi below 40,000 particles, GAMG above;
+#   earlier_default  CG + point-block Jacobi at every size (the default until 2026-11-25);
+#   default          today's default: point-block Jacobi below 40,000 particles, GAMG from 40,000 on;
 #   gamg             GAMG forced at every size;
 # and, when its environment exists (bash ../shared/peers/setup.sh newton, beside a checkout that has it), Newton's
-# semi-implicit peer at 65 and 129. Writes jobs/results/bench/bench.csv (appended), bench.png and the table in
+# semi-implicit peer at 65 and 129; then the main job (the dress, 2 ranks) with the projected and with the
+# Gauss-Newton element stiffness (jobs/results/bench/dress_*.log, -log_view). Writes jobs/results/bench/bench.csv (appended), bench.png and the table in
 # docs/performance.md. Keep the machine otherwise idle: it takes about 20 minutes on 2 cores.
 #
 #   bash jobs/bench_solver.sh
@@ -21,9 +22,17 @@ large=${LARGE_GRID-1025}
 peers=
 [[ -x ../shared/peers/.venv-newton/bin/python ]] && peers=newton
 
-PEERS= TAG=earlier_default EXTRA="-pc_type pbjacobi -cloth_stiffness projected" bash jobs/bench.sh
+PEERS= TAG=earlier_default EXTRA="-pc_type pbjacobi" bash jobs/bench.sh
 PEERS= TAG=default EXTRA= bash jobs/bench.sh
 GRIDS="65 129" PEERS=$peers PEER_GRIDS="65 129" TAG=gamg EXTRA="-pc_type gamg" bash jobs/bench.sh
 if [[ -n $large ]]; then
   GRIDS=$large RANKS_LIST=2 PEERS= TAG=default EXTRA= bash jobs/bench.sh
 fi
+
+# The main job's two stiffness forms: wall time, Krylov iterations and the Jacobian assembly's share (-log_view).
+for form in projected gauss_newton; do
+  log=jobs/results/bench/dress_${form}_$(date -u +%Y%m%dT%H%M%SZ).log
+  OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 mpiexec -n 2 "${BUILD_DIR:-build}/clothsim" -scene input/dress.yaml \
+    -cloth_stiffness "$form" -output_dir "jobs/results/bench/runs/dress_$form" -progress_seconds 60 -log_view > "$log" 2>&1
+  echo "dress, -cloth_stiffness $form: $(grep '^Done' "$log" | cut -c1-90); $(grep -E '^ClothJacobian ' "$log" | awk '{print "assembly " $4 " s"}')"
+done
