@@ -351,6 +351,8 @@ PetscErrorCode ClothDestroy(Cloth *cloth)
   if (!c) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(ClothModelDestroy(&c->model));
   PetscCall(PetscFree(c->part));
+  PetscCall(PetscFree(c->slider_saved[0]));
+  PetscCall(PetscFree(c->slider_saved[1]));
   PetscCall(PetscFree(c->solver_of_natural));
   PetscCall(PetscFree(c->ghosts));
   PetscCall(PetscFree(c->xadj));

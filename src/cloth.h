@@ -50,6 +50,10 @@ PetscErrorCode ClothComputeForces(Cloth cloth, Vec position, Vec velocity, Vec f
 /* Moves the sliders of the bending- and shear-hysteresis friction elements (ClothAngleSlide) to the state at
    position, the start of a step. A no-op without hysteresis. position gets its ghosts refreshed. Collective. */
 PetscErrorCode ClothUpdateHysteresis(Cloth cloth, Vec position);
+/* Saves the sliders in slot 0 or 1, and puts them back: a failed (sub-)step is undone completely (the integrator).
+   No-ops without hysteresis. Not collective. */
+PetscErrorCode ClothHysteresisSave(Cloth cloth, PetscInt slot);
+PetscErrorCode ClothHysteresisRestore(Cloth cloth, PetscInt slot);
 typedef enum {
   CLOTH_SLIDERS_BEND, /* checkpoint field bend_slider: 4 per particle, cos and sin of the slider angle of the warp chain centred on it, then of the weft chain */
   CLOTH_SLIDERS_SHEAR /* checkpoint field shear_slider: 2 per particle, cos and sin of the slider angle of the cell whose first corner (i, j) it is */

@@ -120,13 +120,38 @@ PetscErrorCode ClothHysteresisSetState(Cloth cloth, ClothSliderFamily family, Ve
     row = SliderIndex(cloth, angle);
     c   = PetscRealPart(s[row]);
     sn  = PetscRealPart(s[row + 1]);
-    PetscCheck(PetscAbsReal(c * c + sn * sn - 1) < 1e-12, PETSC_COMM_SELF, PETSC_ERR_FILE_UNEXPECTED, "Checkpoint %s: particle %" PetscInt_FMT " has no slider angle (cos %g, sin %g)", name, SliderIndex(cloth, angle) / SliderBlockSize(family), (double)c,
-               (double)sn);
+    PetscCheck(PetscAbsReal(c * c + sn * sn - 1) < 1e-12, PETSC_COMM_SELF, PETSC_ERR_FILE_UNEXPECTED, "Checkpoint %s: particle %" PetscInt_FMT " has no slider angle (cos %g, sin %g)", name, SliderIndex(cloth, angle) / SliderBlockSize(family),
+               (double)c, (double)sn);
     angle->cos0 = c;
     angle->sin0 = sn;
   }
   PetscCall(VecRestoreArrayRead(all, &s));
   PetscCall(VecScatterDestroy(&to_all));
   PetscCall(VecDestroy(&all));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothHysteresisSave(Cloth cloth, PetscInt slot)
+{
+  PetscFunctionBeginUser;
+  PetscCheck(slot == 0 || slot == 1, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "Slider save slot %" PetscInt_FMT ": expected 0 or 1", slot);
+  if (cloth->model->nfriction == 0) PetscFunctionReturn(PETSC_SUCCESS);
+  if (!cloth->slider_saved[slot]) PetscCall(PetscMalloc1(2 * cloth->nangles, &cloth->slider_saved[slot]));
+  for (PetscInt a = 0; a < cloth->nangles; a++) {
+    cloth->slider_saved[slot][2 * a]     = cloth->angles[a].cos0;
+    cloth->slider_saved[slot][2 * a + 1] = cloth->angles[a].sin0;
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothHysteresisRestore(Cloth cloth, PetscInt slot)
+{
+  PetscFunctionBeginUser;
+  if (cloth->model->nfriction == 0) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCheck(cloth->slider_saved[slot], PETSC_COMM_SELF, PETSC_ERR_ORDER, "ClothHysteresisRestore of slot %" PetscInt_FMT " before ClothHysteresisSave", slot);
+  for (PetscInt a = 0; a < cloth->nangles; a++) { /* elastic springs never move: restoring them is a no-op */
+    cloth->angles[a].cos0 = cloth->slider_saved[slot][2 * a];
+    cloth->angles[a].sin0 = cloth->slider_saved[slot][2 * a + 1];
+  }
   PetscFunctionReturn(PETSC_SUCCESS);
 }

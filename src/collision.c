@@ -54,9 +54,12 @@ struct _n_ClothCollision {
   PetscBool            verify, view, setup;
   PetscInt             nbodies;
   Body                *bodies;
-  CollisionMesh       *meshes; /* one per body; used for mesh bodies */
-  HeldContact         *held;   /* per owned particle */
-  PetscInt            *state;  /* per owned particle: the contact state of ClothCollisionGetContactField */
+  CollisionMesh       *meshes;        /* one per body; used for mesh bodies */
+  HeldContact         *held;          /* per owned particle */
+  PetscInt            *state;         /* per owned particle: the contact state of ClothCollisionGetContactField */
+  HeldContact         *held_saved[2]; /* held, state and the cloth's contact normals per save slot (ClothCollisionSave) */
+  PetscInt            *state_saved[2];
+  Vec                  normal_saved[2];
   Vec                  force;
   ClothCollisionStats  stats, local;
 };
@@ -795,6 +798,40 @@ PetscErrorCode ClothCollisionView(ClothCollision col, PetscViewer viewer)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+PetscErrorCode ClothCollisionSave(ClothCollision col, PetscInt slot)
+{
+  PetscInt nlocal;
+  Vec      normal;
+
+  PetscFunctionBeginUser;
+  PetscCheck(slot == 0 || slot == 1, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "Contact save slot %" PetscInt_FMT ": expected 0 or 1", slot);
+  PetscCall(ClothGetSizes(col->cloth, &nlocal, NULL));
+  PetscCall(ClothGetContactNormals(col->cloth, &normal));
+  if (!col->held_saved[slot]) {
+    PetscCall(PetscMalloc2(nlocal, &col->held_saved[slot], nlocal, &col->state_saved[slot]));
+    PetscCall(VecDuplicate(normal, &col->normal_saved[slot]));
+  }
+  PetscCall(PetscArraycpy(col->held_saved[slot], col->held, nlocal));
+  PetscCall(PetscArraycpy(col->state_saved[slot], col->state, nlocal));
+  PetscCall(VecCopy(normal, col->normal_saved[slot]));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothCollisionRestore(ClothCollision col, PetscInt slot)
+{
+  PetscInt nlocal;
+  Vec      normal;
+
+  PetscFunctionBeginUser;
+  PetscCheck(col->held_saved[slot], PETSC_COMM_SELF, PETSC_ERR_ORDER, "ClothCollisionRestore of slot %" PetscInt_FMT " before ClothCollisionSave", slot);
+  PetscCall(ClothGetSizes(col->cloth, &nlocal, NULL));
+  PetscCall(ClothGetContactNormals(col->cloth, &normal));
+  PetscCall(PetscArraycpy(col->held, col->held_saved[slot], nlocal));
+  PetscCall(PetscArraycpy(col->state, col->state_saved[slot], nlocal));
+  PetscCall(VecCopy(col->normal_saved[slot], normal));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode ClothCollisionDestroy(ClothCollision *collision)
 {
   ClothCollision col = *collision;
@@ -809,6 +846,10 @@ PetscErrorCode ClothCollisionDestroy(ClothCollision *collision)
   PetscCall(PetscFree2(col->bodies, col->meshes));
   PetscCall(PetscFree(col->held));
   PetscCall(PetscFree(col->state));
+  for (PetscInt slot = 0; slot < 2; slot++) {
+    PetscCall(PetscFree2(col->held_saved[slot], col->state_saved[slot]));
+    PetscCall(VecDestroy(&col->normal_saved[slot]));
+  }
   PetscCall(VecDestroy(&col->force));
   PetscCall(PetscFree(*collision));
   PetscFunctionReturn(PETSC_SUCCESS);

@@ -73,4 +73,8 @@ PetscErrorCode ClothCollisionGetContactField(ClothCollision collision, Vec field
    over ranks. Collective. */
 PetscErrorCode ClothCollisionCountInside(ClothCollision collision, PetscInt *inside);
 PetscErrorCode ClothCollisionView(ClothCollision collision, PetscViewer viewer);
+/* Saves the contact state a step changes (held contacts, their states, the cloth's contact normals) in slot 0 or 1,
+   and puts it back: a failed (sub-)step is undone completely (the integrator). Not collective. */
+PetscErrorCode ClothCollisionSave(ClothCollision collision, PetscInt slot);
+PetscErrorCode ClothCollisionRestore(ClothCollision collision, PetscInt slot);
 PetscErrorCode ClothCollisionDestroy(ClothCollision *collision);

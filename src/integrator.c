@@ -23,12 +23,12 @@ struct _n_ClothIntegrator {
   ClothCollision    collision; /* borrowed; NULL: no bodies */
   /* implicit only */
   Mat                 A;
-  KSP                 ksp, fallback_ksp; /* fallback_ksp: redoes the solves whose preconditioner breaks down */
-  ClothPreconditioner pre;               /* keeps ksp's preconditioner between steps */
-  Vec                 rhs, dv, dv_guess;
-  PetscInt            pc_fallbacks; /* solves redone with fallback_ksp */
-  char                failure[256]; /* why the last failed (sub-)step failed */
-  PetscInt            pc_retries;   /* solves redone after a rebuild of a preconditioner kept from earlier steps */
+  KSP                 ksp, fallback_ksp;           /* fallback_ksp: redoes the solves whose preconditioner breaks down */
+  ClothPreconditioner pre;                         /* keeps ksp's preconditioner between steps */
+  Vec                 rhs, dv, dv_guess, start_dv; /* start_dv: dv at the step's start, put back when it fails */
+  PetscInt            pc_fallbacks;                /* solves redone with fallback_ksp */
+  char                failure[256];                /* why the last failed (sub-)step failed */
+  PetscInt            pc_retries;                  /* solves redone after a rebuild of a preconditioner kept from earlier steps */
 };
 
 /* Is every entry of v finite? Collective. */
@@ -305,6 +305,7 @@ static PetscErrorCode ClothIntegratorSetUpImplicit(ClothIntegrator integ)
   PetscCall(ClothCreateMatrix(integ->cloth, &integ->A));
   PetscCall(MatCreateVecs(integ->A, &integ->dv, NULL));
   PetscCall(VecDuplicate(integ->dv, &integ->dv_guess));
+  PetscCall(VecDuplicate(integ->dv, &integ->start_dv));
   PetscCall(ClothCreateStateVec(integ->cloth, &integ->rhs));
   PetscCall(KSPCreate(integ->comm, &integ->ksp));
   PetscCall(KSPSetType(integ->ksp, KSPCG));
@@ -333,6 +334,27 @@ PetscErrorCode ClothIntegratorSetUp(ClothIntegrator integ)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* The state a step changes besides x and v, saved in slot 0 at a step's start and slot 1 at each attempt's start:
+   the hysteresis sliders and the contacts with bodies. (Self-contacts are found anew from x at every sub-step.) */
+#define CLOTH_SLOT_STEP 0
+#define CLOTH_SLOT_ATTEMPT 1
+
+static PetscErrorCode SaveInternalState(ClothIntegrator integ, PetscInt slot)
+{
+  PetscFunctionBeginUser;
+  PetscCall(ClothHysteresisSave(integ->cloth, slot));
+  if (integ->collision) PetscCall(ClothCollisionSave(integ->collision, slot));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode RestoreInternalState(ClothIntegrator integ, PetscInt slot)
+{
+  PetscFunctionBeginUser;
+  PetscCall(ClothHysteresisRestore(integ->cloth, slot));
+  if (integ->collision) PetscCall(ClothCollisionRestore(integ->collision, slot));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 /* Takes one step of h; on failure restores the state and takes two steps of h/2 instead. */
 static PetscErrorCode StepOrHalve(ClothIntegrator integ, PetscReal h, PetscInt depth, PetscBool *ok, ClothStepStats *stats)
 {
@@ -343,6 +365,7 @@ static PetscErrorCode StepOrHalve(ClothIntegrator integ, PetscReal h, PetscInt d
   PetscCall(ClothGetState(integ->cloth, &x, &v));
   PetscCall(VecCopy(x, integ->saved_position));
   PetscCall(VecCopy(v, integ->saved_velocity));
+  PetscCall(SaveInternalState(integ, CLOTH_SLOT_ATTEMPT));
   PetscCall(UpdateSelfContact(integ, h));
   PetscCall(ClothUpdateHysteresis(integ->cloth, x)); /* the sliders at the (sub-)step's start */
   integ->failure[0] = 0;
@@ -357,6 +380,7 @@ static PetscErrorCode StepOrHalve(ClothIntegrator integ, PetscReal h, PetscInt d
   }
   PetscCall(VecCopy(integ->saved_position, x));
   PetscCall(VecCopy(integ->saved_velocity, v));
+  PetscCall(RestoreInternalState(integ, CLOTH_SLOT_ATTEMPT));
   if (integ->dv) PetscCall(VecZeroEntries(integ->dv));
   if (depth >= integ->max_halvings) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(PetscInfo(NULL, "Step of %g s failed; retrying as two steps of %g s\n", (double)h, (double)(h / 2)));
@@ -377,10 +401,14 @@ PetscErrorCode ClothIntegratorStep(ClothIntegrator integ, PetscReal dt, PetscBoo
   PetscCall(ClothGetState(integ->cloth, &x, &v));
   PetscCall(VecCopy(x, integ->start_position));
   PetscCall(VecCopy(v, integ->start_velocity));
+  PetscCall(SaveInternalState(integ, CLOTH_SLOT_STEP));
+  if (integ->dv) PetscCall(VecCopy(integ->dv, integ->start_dv));
   PetscCall(StepOrHalve(integ, dt, 0, ok, &s));
-  if (!*ok) { /* a failed half-step sequence may have advanced part of the way: go back to the start */
+  if (!*ok) { /* a failed half-step sequence may have advanced part of the way: go back to the start, all of it */
     PetscCall(VecCopy(integ->start_position, x));
     PetscCall(VecCopy(integ->start_velocity, v));
+    PetscCall(RestoreInternalState(integ, CLOTH_SLOT_STEP));
+    if (integ->dv) PetscCall(VecCopy(integ->start_dv, integ->dv)); /* the warm start too: a checkpoint now is step n's */
   }
   if (stats) *stats = s;
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -480,6 +508,7 @@ PetscErrorCode ClothIntegratorDestroy(ClothIntegrator *integ)
   PetscCall(KSPDestroy(&it->fallback_ksp));
   PetscCall(ClothPreconditionerDestroy(&it->pre));
   PetscCall(VecDestroy(&it->dv_guess));
+  PetscCall(VecDestroy(&it->start_dv));
   PetscCall(VecDestroy(&it->rhs));
   PetscCall(VecDestroy(&it->dv));
   PetscCall(PetscFree(*integ));
