@@ -131,6 +131,9 @@ static const char *const SceneBodyTypeKeys[][5] = {{"center", "radius", NULL}, {
 const char *const        SceneBodyTypes[]       = {"sphere", "plane", "mesh", "SceneBodyType", "SCENE_BODY_", NULL};
 
 #define SCENE_ORTHOGONALITY_TOL 1e-6
+/* The most particles a scene may have: the state vectors hold 3 coordinates per particle, indexed by PetscInt
+   (32 bits in Debian's PETSc). Sizes are multiplied in 64 bits, so that a grid beyond it is named, not wrapped. */
+#define SCENE_MAX_PARTICLES ((PetscInt64)PETSC_MAX_INT / 3)
 #define SCENE_TEXT_LEN 1024    /* room for an expectation or a description in a message */
 #define SCENE_DESCRIBE_DEPTH 3 /* nested lists shown in messages (aliases may make cycles) */
 #define SCENE_FNV_OFFSET UINT64_C(0xcbf29ce484222325)
@@ -282,6 +285,27 @@ static PetscErrorCode SceneExpectInt(PetscInt count, PetscInt min, char buf[], s
     PetscCall(PetscSNPrintf(buf, len, "a list of %" PetscInt_FMT " integers%s", count, bound));
   else
     PetscCall(PetscSNPrintf(buf, len, "an integer%s", bound));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The particles of all pieces, counted in 64 bits. */
+static PetscInt64 SceneCountParticles(Scene scene)
+{
+  PetscInt64 n = 0;
+
+  for (PetscInt p = 0; p < scene->npieces; p++) n += (PetscInt64)scene->pieces[p].nu * scene->pieces[p].nv;
+  return n;
+}
+
+/* Errors when the pieces have more than SCENE_MAX_PARTICLES particles in all; cause says what set the grids
+   ("" for the file, "-grid N"). */
+static PetscErrorCode SceneCheckParticleCount(Scene scene, const char cause[])
+{
+  const PetscInt64 n = SceneCountParticles(scene);
+
+  PetscFunctionBeginUser;
+  PetscCheck(n <= SCENE_MAX_PARTICLES, scene->comm, PETSC_ERR_USER_INPUT, "scene %s%s%s: the pieces have %" PetscInt64_FMT " particles in all: expected at most %" PetscInt64_FMT " (3 coordinates each, indexed by a %d-bit PetscInt)", scene->path,
+             cause[0] ? ", " : "", cause, n, SCENE_MAX_PARTICLES, (int)(8 * sizeof(PetscInt)));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -996,6 +1020,11 @@ static PetscErrorCode ReadGridAndSize(SceneReader *r, yaml_node_t *map, ScenePie
     PetscCall(SceneGetValue(r, map, "grid", &node));
     PetscCall(SceneFailValue(r, node, "grid", "[%" PetscInt_FMT ", %" PetscInt_FMT "], the node counts the boundaries give (bottom/top, left/right), or no grid", piece->grid_given[0], piece->grid_given[1]));
   }
+  if ((PetscInt64)grid[0] * grid[1] > SCENE_MAX_PARTICLES) {
+    PetscCall(SceneGetValue(r, map, "grid", &node));
+    PetscCall(SceneFailValue(r, node ? node : map, "grid", "a grid of at most %" PetscInt64_FMT " particles (3 coordinates each, indexed by a %d-bit PetscInt); this one has %" PetscInt64_FMT, SCENE_MAX_PARTICLES, (int)(8 * sizeof(PetscInt)),
+                             (PetscInt64)grid[0] * grid[1]));
+  }
   piece->grid_given[0] = piece->nu = grid[0];
   piece->grid_given[1] = piece->nv = grid[1];
   if (piece->has_boundaries) {
@@ -1098,7 +1127,8 @@ static PetscErrorCode SceneReadPieces(SceneReader *r, yaml_node_t *root, Scene s
   if (scene->npieces == 0) PetscCall(SceneFailValue(r, list, "pieces", "%s", expected));
   PetscCall(PetscCalloc1(scene->npieces, &scene->pieces));
   for (PetscInt p = 0; p < scene->npieces; p++) PetscCall(SceneReadPiece(r, yaml_document_get_node(r->doc, items[p]), scene, p));
-  r->block[0]        = 0;
+  r->block[0] = 0;
+  PetscCall(SceneCheckParticleCount(scene, ""));
   scene->single_grid = scene->npieces == 1 ? PETSC_TRUE : PETSC_FALSE;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -1354,7 +1384,12 @@ static PetscErrorCode SceneReadDocument(SceneReader *r, Scene scene)
 /* ------------------------------------------------------------------------------------------------------------ */
 /* File and YAML                                                                                                */
 
-/* Rank 0 only, never raises: reads the whole file, or returns the errno of the failure. */
+/* The largest scene file read: far above any scene (the garment is 10 kB), and a limit for what is not one
+   (-scene /dev/zero, a checkpoint given by mistake), which is refused before it fills the memory. */
+#define SCENE_MAX_FILE_BYTES (64ll << 20)
+
+/* Rank 0 only, never raises: reads the whole file (up to one byte beyond SCENE_MAX_FILE_BYTES, enough to tell
+   that it is too large), or returns the errno of the failure. */
 static PetscErrorCode SceneReadFileSerial(const char path[], char **bytes, long long *len, long long *err)
 {
   FILE  *fp;
@@ -1369,7 +1404,7 @@ static PetscErrorCode SceneReadFileSerial(const char path[], char **bytes, long 
     PetscFunctionReturn(PETSC_SUCCESS);
   }
   PetscCall(PetscMalloc1(cap, bytes));
-  while ((got = fread(*bytes + n, 1, cap - n, fp)) > 0) {
+  while (n <= SCENE_MAX_FILE_BYTES && (got = fread(*bytes + n, 1, cap - n, fp)) > 0) {
     n += got;
     if (n == cap) {
       cap *= 2;
@@ -1395,7 +1430,8 @@ static PetscErrorCode SceneReadBytes(MPI_Comm comm, const char path[], char **by
   PetscCallMPI(MPI_Bcast(header, 2, MPI_LONG_LONG, 0, comm));
   if (header[1]) PetscCall(PetscFree(buf));
   PetscCheck(!header[1], comm, PETSC_ERR_FILE_OPEN, "scene %s: cannot read the file (%s): expected a readable YAML scene file", path, strerror((int)header[1]));
-  PetscCheck(header[0] < INT_MAX, comm, PETSC_ERR_FILE_READ, "scene %s: the file has %lld bytes: expected less than 2 GB", path, header[0]);
+  if (header[0] > SCENE_MAX_FILE_BYTES) PetscCall(PetscFree(buf));
+  PetscCheck(header[0] <= SCENE_MAX_FILE_BYTES, comm, PETSC_ERR_USER_INPUT, "scene %s: the file is larger than %lld MB: expected a YAML scene file (a few kB)", path, SCENE_MAX_FILE_BYTES >> 20);
   if (rank == 0)
     PetscCall(PetscRealloc((size_t)header[0] + 1, &buf));
   else
@@ -1504,12 +1540,15 @@ PetscErrorCode SceneSetGridSize(Scene scene, PetscInt n)
   ScenePiece   *piece;
   uint64_t      hash = (uint64_t)scene->file_fingerprint;
   unsigned char nbytes[8];
+  char          cause[64];
 
   PetscFunctionBeginUser;
   PetscCheck(scene->single_grid, scene->comm, PETSC_ERR_USER_INPUT, "scene %s: -grid %" PetscInt_FMT ": expected a scene of one rectangular piece, got %" PetscInt_FMT " pieces", scene->path, n, scene->npieces);
   PetscCheck(n >= 2, scene->comm, PETSC_ERR_USER_INPUT, "scene %s: -grid %" PetscInt_FMT ": expected an integer >= 2", scene->path, n);
   piece     = &scene->pieces[0];
   piece->nu = piece->nv = n;
+  PetscCall(PetscSNPrintf(cause, sizeof(cause), "-grid %" PetscInt_FMT, n));
+  PetscCall(SceneCheckParticleCount(scene, cause));
   PetscCall(ScenePieceResolvePins(scene->comm, scene->path, piece));
   for (int b = 0; b < 8; b++) nbytes[b] = (unsigned char)(((uint64_t)n >> (8 * b)) & 0xff); /* little-endian on every host */
   if (n != piece->grid_given[0] || n != piece->grid_given[1]) PetscCall(SceneHashBytes(&hash, nbytes, sizeof(nbytes)));
@@ -1618,17 +1657,24 @@ static PetscErrorCode SceneBodyView(const SceneBody *b, PetscViewer viewer)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+PetscErrorCode SceneGetParticleCount(Scene scene, PetscInt *n)
+{
+  PetscFunctionBeginUser;
+  *n = (PetscInt)SceneCountParticles(scene); /* fits: checked when the grids were set */
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode SceneView(Scene scene, PetscViewer viewer)
 {
   PetscBool iascii;
-  PetscInt  particles               = 0;
+  PetscInt  particles;
   char      gravity[SCENE_TEXT_LEN] = "";
 
   PetscFunctionBeginUser;
   if (!viewer) PetscCall(PetscViewerASCIIGetStdout(scene->comm, &viewer));
   PetscCall(PetscObjectTypeCompare((PetscObject)viewer, PETSCVIEWERASCII, &iascii));
   if (!iascii) PetscFunctionReturn(PETSC_SUCCESS);
-  for (PetscInt p = 0; p < scene->npieces; p++) particles += scene->pieces[p].nu * scene->pieces[p].nv;
+  PetscCall(SceneGetParticleCount(scene, &particles));
   PetscCall(PetscViewerASCIIPrintf(viewer, "Scene '%s' from %s (fingerprint %016" PRIx64 "): %" PetscInt_FMT " piece%s, %" PetscInt_FMT " particles\n", scene->name, scene->path, (uint64_t)scene->fingerprint, scene->npieces,
                                    scene->npieces == 1 ? "" : "s", particles));
   PetscCall(PetscViewerASCIIPushTab(viewer));

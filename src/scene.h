@@ -181,6 +181,8 @@ PetscErrorCode SceneCreateFromFile(MPI_Comm comm, const char path[], Scene *scen
    when n x n is the grid the file gives). Errors unless scene->single_grid. Not collective (every rank holds the
    same scene and must call it alike). */
 PetscErrorCode SceneSetGridSize(Scene scene, PetscInt n);
+/* The particles of all pieces (at most PETSC_MAX_INT / 3: the reader and SceneSetGridSize refuse more). */
+PetscErrorCode SceneGetParticleCount(Scene scene, PetscInt *n);
 /* Prints a short summary (pieces with grid and particle count, fabrics, gravity, run defaults) to an ASCII viewer
    (NULL: stdout of the scene's communicator). */
 PetscErrorCode SceneView(Scene scene, PetscViewer viewer);

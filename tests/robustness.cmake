@@ -1,2 +1,31 @@
 # A diverging run stops cleanly with its last good state; a recoverable failure is recovered by halving.
 clothsim_add_script_test(divergence_handling robustness.sh)
+
+# Bad options and faults (issue 24): clothsim must refuse each with its exit status (src/errors.h: 2 bad input,
+# 3 file) and one "ERROR: " line naming the option and what is allowed, without PETSc's traceback (expect_error.sh).
+# The bad scenes and meshes of tests/bad_input/ are run by scene.cmake; these give options to a good scene.
+# robustness_case(NAME STATUS RANKS SCENE TEXT... -- OPTION...)
+set(robustness_cases "")
+function(robustness_case name status ranks scene)
+  clothsim_add_script_test(robust_${name} expect_error.sh --status ${status} ${ranks} ${scene} ${ARGN})
+  set_property(TEST robust_${name} APPEND PROPERTY ENVIRONMENT "MPIEXEC=${MPIEXEC_EXECUTABLE}")
+  set_tests_properties(robust_${name} PROPERTIES TIMEOUT 150 PROCESSORS ${ranks} LABELS robustness)
+endfunction()
+set(sheet input/hanging_sheet.yaml)
+# 32-bit overflows and unchecked sizes
+robustness_case(t_final_huge 2 1 ${sheet} "-t_final 1e+09 s with -dt 0.00416667 s needs 2.4e+11 steps: expected at most 2147483647 steps" -- -t_final 1e9)
+robustness_case(dt_huge 2 1 ${sheet} "-t_final 1 s with -dt 1e+09 s is less than half a step: expected -dt <= -t_final" -- -dt 1e9)
+robustness_case(dt_inf 2 1 ${sheet} "option -dt inf: expected a finite number > 0 s" -- -dt inf)
+robustness_case(dt_nan 2 2 ${sheet} "option -dt nan: expected a finite number > 0 s" -- -dt nan)
+robustness_case(dt_text 2 1 ${sheet} "Input string abc has no numeric value" -- -dt abc)
+robustness_case(grid_overflow 2 1 ${sheet} "-grid 65536: the pieces have 4294967296 particles in all: expected at most 715827882" -- -grid 65536)
+robustness_case(grid_memory 2 2 ${sheet} "the grids ('sheet' 26000 x 26000) give 676000000 particles" "GB of memory on a node" -- -grid 26000)
+robustness_case(grid_too_small 2 1 ${sheet} "option -grid 1: expected an integer >= 2" -- -grid 1)
+robustness_case(scene_dev_zero 2 1 /dev/zero "scene /dev/zero: the file is larger than 64 MB: expected a YAML scene file")
+robustness_case(scene_directory 3 2 tests "scene tests: cannot read the file (Is a directory)")
+robustness_case(scene_binary 2 1 tests/data/table.obj "expected a map with keys among")
+# nonsense accepted
+robustness_case(checkpoint_keep_negative 2 1 ${sheet} "option -checkpoint_keep -1: expected an integer >= 0" -- -checkpoint_keep -1)
+robustness_case(gravity_ramp_inf 2 1 ${sheet} "option -gravity_ramp inf: expected a finite number >= 0 s" -- -gravity_ramp inf)
+robustness_case(progress_negative 2 1 ${sheet} "option -progress_seconds -1: expected a finite number >= 0 s" -- -progress_seconds -1)
+robustness_case(output_every_negative 2 1 ${sheet} "option -output_every -3: expected an integer >= 0" -- -output_every -3)
