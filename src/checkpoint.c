@@ -12,6 +12,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include <dirent.h>
 #include <errno.h>
+#include <inttypes.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -35,7 +36,7 @@ static const char *const CheckpointAttributes[] = {"format_version", "step", "ti
 /* Why a checkpoint is refused; code 0 when it is accepted. */
 typedef struct {
   PetscErrorCode code;
-  char           reason[512];
+  char           reason[1024];
 } CheckpointRefusal;
 
 static uint64_t SplitMix64(uint64_t x)
@@ -327,12 +328,21 @@ static PetscErrorCode CheckpointReadInfo(hid_t state, ClothCheckpointInfo *info,
 /* Checks that the checkpoint fits this run: its particle count and its scene. */
 static PetscErrorCode CheckpointCheckScene(const ClothCheckpointInfo *info, const ClothCheckpointInfo *expect, PetscInt64 nparticles, CheckpointRefusal *refusal)
 {
-  char reason[512];
+  char        reason[sizeof(((CheckpointRefusal *)0)->reason)];
+  const char *differs;
+  PetscBool   same_name;
 
   PetscFunctionBeginUser;
   if (expect && info->scene_fingerprint != expect->scene_fingerprint) {
-    PetscCall(PetscSNPrintf(reason, sizeof(reason), "was written for scene '%s' (fingerprint %" PetscInt64_FMT "), not this scene '%s' (fingerprint %" PetscInt64_FMT ")", info->scene_name, info->scene_fingerprint, expect->scene_name,
-                            expect->scene_fingerprint));
+    PetscCall(PetscStrcmp(info->scene_name, expect->scene_name, &same_name));
+    if (info->nparticles != expect->nparticles)
+      differs = same_name ? "other grids (grid: in the scene, or -grid): a restart needs the same particles" : "another scene: a restart needs the same particles";
+    else if (!same_name)
+      differs = "another scene of as many particles; if it is this one renamed on purpose, add -restart_any_scene to continue with it";
+    else
+      differs = "the same name and particle count, but the scene file was edited (a value, or only a comment) or -grid changed; if on purpose, add -restart_any_scene to continue with this scene";
+    PetscCall(PetscSNPrintf(reason, sizeof(reason), "was written for scene '%s' (fingerprint %016" PRIx64 ", %" PetscInt64_FMT " particles), not this scene '%s' (fingerprint %016" PRIx64 ", %" PetscInt64_FMT " particles): %s", info->scene_name,
+                            (uint64_t)info->scene_fingerprint, info->nparticles, expect->scene_name, (uint64_t)expect->scene_fingerprint, expect->nparticles, differs));
     PetscCall(CheckpointRefuse(refusal, PETSC_ERR_FILE_UNEXPECTED, reason));
   } else if (info->nparticles != nparticles) {
     PetscCall(PetscSNPrintf(reason, sizeof(reason), "holds %" PetscInt64_FMT " particles, the scene has %" PetscInt64_FMT, info->nparticles, nparticles));
@@ -440,15 +450,14 @@ static PetscErrorCode CheckpointReadFileGuarded(MPI_Comm comm, hid_t *file, cons
 
 PetscErrorCode ClothCheckpointRead(MPI_Comm comm, const char path[], const ClothCheckpointInfo *expect, ClothCheckpointInfo *info, PetscInt nfields, ClothCheckpointField fields[])
 {
-  PetscBool           exists = PETSC_FALSE, opened = PETSC_FALSE;
+  PetscBool           opened = PETSC_FALSE;
   hid_t               file;
   ClothCheckpointInfo found;
   CheckpointRefusal   refusal = {0, ""};
 
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(&found, sizeof(found)));
-  PetscCall(ClothFileExists(comm, path, &exists));
-  PetscCheck(exists, comm, PETSC_ERR_FILE_OPEN, "Checkpoint %s does not exist", path);
+  PetscCall(ClothFileCheckReadable(comm, "Checkpoint", path, "one of the checkpoint_NNNNNN.h5 in it, the newest for the latest state"));
   PetscCall(ClothH5FileOpen(comm, path, H5F_ACC_RDONLY, &file, &opened));
   PetscCheck(opened, comm, PETSC_ERR_FILE_READ, "Checkpoint %s cannot be opened as an HDF5 file: it is truncated or not a checkpoint", path);
   PetscCall(CheckpointReadFileGuarded(comm, &file, expect, &found, nfields, fields, &refusal));

@@ -1,6 +1,7 @@
 /* Cloth: the distributed fabric (see cloth.h). */
 #include "cloth_impl.h"
 #include "log.h"
+#include "options.h"
 
 PetscErrorCode ClothCreate(MPI_Comm comm, Scene scene, Cloth *cloth)
 {
@@ -32,8 +33,8 @@ PetscErrorCode ClothSetFromOptions(Cloth cloth)
   PetscCall(PetscOptionsReal("-cloth_perturbation_wavelength", "Shortest wavelength, m, of a smooth -cloth_perturbation field, the same at any resolution (0: independent per particle)", "ClothModelPerturbPositions", cloth->perturbation_wavelength,
                              &cloth->perturbation_wavelength, NULL));
   PetscOptionsEnd();
-  PetscCheck(cloth->perturbation >= 0, cloth->comm, PETSC_ERR_USER_INPUT, "-cloth_perturbation must not be negative, got %g", (double)cloth->perturbation);
-  PetscCheck(cloth->perturbation_wavelength >= 0, cloth->comm, PETSC_ERR_USER_INPUT, "-cloth_perturbation_wavelength must not be negative, got %g", (double)cloth->perturbation_wavelength);
+  PetscCall(ClothOptionsCheckReal(cloth->comm, "-cloth_perturbation", cloth->perturbation, 0, PETSC_FALSE, PETSC_MAX_REAL, "m"));
+  PetscCall(ClothOptionsCheckReal(cloth->comm, "-cloth_perturbation_wavelength", cloth->perturbation_wavelength, 0, PETSC_FALSE, PETSC_MAX_REAL, "m"));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

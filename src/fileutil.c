@@ -61,6 +61,36 @@ PetscErrorCode ClothFileExists(MPI_Comm comm, const char path[], PetscBool *exis
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+PetscErrorCode ClothFileCheckReadable(MPI_Comm comm, const char what[], const char path[], const char in_directory[])
+{
+  PetscMPIInt rank;
+  int         err = 0; /* errno, or -1: a directory, -2: not a regular file */
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  if (rank == 0) {
+    struct stat st;
+    FILE       *fp;
+
+    if (stat(path, &st) != 0)
+      err = errno;
+    else if (S_ISDIR(st.st_mode))
+      err = -1;
+    else if (!S_ISREG(st.st_mode))
+      err = -2;
+    else if (!(fp = fopen(path, "rb")))
+      err = errno;
+    else
+      fclose(fp);
+  }
+  PetscCallMPI(MPI_Bcast(&err, 1, MPI_INT, 0, comm));
+  PetscCheck(err != -1, comm, PETSC_ERR_FILE_OPEN, "%s %s is a directory: expected a file (%s)", what, path, in_directory);
+  PetscCheck(err != -2, comm, PETSC_ERR_FILE_OPEN, "%s %s is not a regular file: expected a file (%s)", what, path, in_directory);
+  PetscCheck(err != ENOENT, comm, PETSC_ERR_FILE_OPEN, "%s %s does not exist", what, path);
+  PetscCheck(!err, comm, PETSC_ERR_FILE_OPEN, "%s %s cannot be read: %s", what, path, strerror(err));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode ClothFileRename(MPI_Comm comm, const char from[], const char to[])
 {
   PetscMPIInt rank;

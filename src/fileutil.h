@@ -8,6 +8,10 @@
 PetscErrorCode ClothFileMakeDirectory(MPI_Comm comm, const char dir[]);
 /* Whether path names an existing regular file (or a link to one). */
 PetscErrorCode ClothFileExists(MPI_Comm comm, const char path[], PetscBool *exists);
+/* Errors unless path names a regular file (or a link to one) that rank 0 can open for reading; the message
+   starts with what (e.g. "Checkpoint") and says why: missing, a directory (suggesting expected, e.g.
+   "a checkpoint_NNNNNN.h5 in it"), or the OS reason. */
+PetscErrorCode ClothFileCheckReadable(MPI_Comm comm, const char what[], const char path[], const char in_directory[]);
 /* After a barrier (everyone has finished writing from), atomically renames from to to (rename(2)),
    replacing to if it exists. */
 PetscErrorCode ClothFileRename(MPI_Comm comm, const char from[], const char to[]);

@@ -25,9 +25,10 @@ struct _n_ClothRun {
   PetscInt  steps; /* total steps of the run (from -steps or t_final / dt) */
   PetscInt  step;  /* steps taken so far (continues from a restart) */
   PetscReal time;
-  PetscInt  dt_start_step; /* step and time at which dt came into use (0, 0 unless a restart */
-  PetscReal dt_start_time; /* changed dt): time = dt_start_time + dt (step - dt_start_step) */
-  PetscBool dt_set;        /* -dt given: it overrides the step of a restart's checkpoint */
+  PetscInt  dt_start_step;     /* step and time at which dt came into use (0, 0 unless a restart */
+  PetscReal dt_start_time;     /* changed dt): time = dt_start_time + dt (step - dt_start_step) */
+  PetscBool dt_set;            /* -dt given: it overrides the step of a restart's checkpoint */
+  PetscBool restart_any_scene; /* -restart_any_scene: accept a checkpoint of another scene (same particle count) */
   char      output_dir[CLOTH_PATH_LEN];
   PetscInt  output_every, checkpoint_every, checkpoint_keep;
   char      restart[CLOTH_PATH_LEN];
@@ -146,6 +147,7 @@ PetscErrorCode ClothRunSetFromOptions(ClothRun run)
   PetscCall(PetscOptionsInt("-checkpoint_every", "Write a checkpoint every K steps (0: only at the end)", "ClothRunSolve", run->checkpoint_every, &run->checkpoint_every, NULL));
   PetscCall(PetscOptionsInt("-checkpoint_keep", "Keep only the newest N checkpoints (0: keep all)", "ClothCheckpointWrite", run->checkpoint_keep, &run->checkpoint_keep, NULL));
   PetscCall(PetscOptionsString("-restart", "Continue from this checkpoint (any number of ranks)", "ClothRunSetUp", run->restart, run->restart, sizeof(run->restart), NULL));
+  PetscCall(PetscOptionsBool("-restart_any_scene", "Continue from a checkpoint of another scene (one edited on purpose) with the same particle count", "ClothRunSetUp", run->restart_any_scene, &run->restart_any_scene, NULL));
   PetscCall(PetscOptionsReal("-progress_seconds", "Wall seconds between progress lines (0: every step)", "ClothRunSolve", run->progress_seconds, &run->progress_seconds, NULL));
   PetscCall(PetscOptionsReal("-gravity_ramp", "Seconds over which gravity rises linearly from 0 to its full value (0: full from the start)", "ClothRunSolve", run->gravity_ramp, &run->gravity_ramp, NULL));
   PetscCall(PetscOptionsBool("-monitor_energy", "Print kinetic, gravitational and elastic energy with every frame", "ClothRunSolve", run->monitor_energy, &run->monitor_energy, NULL));
@@ -158,6 +160,7 @@ PetscErrorCode ClothRunSetFromOptions(ClothRun run)
   PetscCall(ClothOptionsCheckInt(run->comm, "-output_every", run->output_every, 0, PETSC_MAX_INT));
   PetscCall(ClothOptionsCheckInt(run->comm, "-checkpoint_every", run->checkpoint_every, 0, PETSC_MAX_INT));
   PetscCall(ClothOptionsCheckInt(run->comm, "-checkpoint_keep", run->checkpoint_keep, 0, PETSC_MAX_INT));
+  PetscCheck(run->output_dir[0], run->comm, PETSC_ERR_USER_INPUT, "option -output_dir '': expected a directory name (default output/%s)", run->scene->name);
   if (set_grid) {
     PetscCall(ClothOptionsCheckInt(run->comm, "-grid", grid, 2, PETSC_MAX_INT));
     PetscCall(SceneSetGridSize(run->scene, grid));
@@ -261,7 +264,9 @@ static PetscErrorCode ClothRunRestore(ClothRun run)
   PetscCall(ClothRunFillCheckpointInfo(run, &expect));
   PetscCall(ClothRunCheckpointFields(run, PETSC_TRUE, fields, &nfields));
   PetscCall(PetscLogEventBegin(ClothLog.checkpoint_read, 0, 0, 0, 0));
-  PetscCall(ClothCheckpointRead(run->comm, run->restart, &expect, &info, nfields, fields));
+  PetscCall(ClothCheckpointRead(run->comm, run->restart, run->restart_any_scene ? NULL : &expect, &info, nfields, fields));
+  if (info.scene_fingerprint != expect.scene_fingerprint)
+    PetscCall(PetscFPrintf(run->comm, PETSC_STDERR, "WARNING: checkpoint %s was written for scene '%s' of another fingerprint; continuing with this scene '%s' (-restart_any_scene)\n", run->restart, info.scene_name, run->scene->name));
   PetscCall(PetscLogEventEnd(ClothLog.checkpoint_read, 0, 0, 0, 0));
   PetscCall(ClothGetState(run->cloth, &x, &v));
   PetscCall(ClothScatterToNatural(run->cloth, x, run->natural_position, SCATTER_REVERSE));

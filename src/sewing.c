@@ -1,6 +1,7 @@
 /* ClothSewing (see sewing.h). */
 #include "sewing.h"
 #include "seam.h"
+#include "options.h"
 
 #define SEAM_BAND 2 /* grid rows around a seam where cloth-cloth contact is not applied while it is pulled closed */
 
@@ -144,6 +145,7 @@ PetscErrorCode ClothSewingSetFromOptions(ClothSewing sewing)
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Sewing (garment assembly)", "ClothSewing");
   PetscCall(PetscOptionsReal("-sewing_max_time", "Seconds of pulling after which gravity comes on even if pairs are still open", "ClothSewingUpdate", sewing->max_time, &sewing->max_time, NULL));
   PetscOptionsEnd();
+  PetscCall(ClothOptionsCheckReal(PETSC_COMM_WORLD, "-sewing_max_time", sewing->max_time, 0, PETSC_FALSE, PETSC_MAX_REAL, "s"));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

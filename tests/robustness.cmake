@@ -29,3 +29,13 @@ robustness_case(checkpoint_keep_negative 2 1 ${sheet} "option -checkpoint_keep -
 robustness_case(gravity_ramp_inf 2 1 ${sheet} "option -gravity_ramp inf: expected a finite number >= 0 s" -- -gravity_ramp inf)
 robustness_case(progress_negative 2 1 ${sheet} "option -progress_seconds -1: expected a finite number >= 0 s" -- -progress_seconds -1)
 robustness_case(output_every_negative 2 1 ${sheet} "option -output_every -3: expected an integer >= 0" -- -output_every -3)
+robustness_case(output_dir_empty 2 1 ${sheet} "option -output_dir '': expected a directory name" -- -output_dir '')
+robustness_case(collision_cell_nan 2 1 input/sphere_drape.yaml "option -collision_cell_size nan: expected a finite number >= 0 m" -- -collision_cell_size nan)
+robustness_case(perturbation_inf 2 1 ${sheet} "option -cloth_perturbation inf: expected a finite number >= 0 m" -- -cloth_perturbation inf)
+robustness_case(self_collision_thickness_inf 2 2 ${sheet} "Self-collision thickness" "expected a positive number of at most 50 particle spacings" -- -self_collision -self_collision_thickness inf -self_collision_stiffness 20)
+robustness_case(self_collision_thickness_10m 2 1 ${sheet} "Self-collision thickness" "expected a positive number of at most 50 particle spacings" -- -self_collision -self_collision_thickness 10 -self_collision_stiffness 20)
+robustness_case(self_collision_stiffness_inf 2 1 ${sheet} "Self-collision needs a positive, finite stiffness" -- -self_collision -self_collision_thickness 0.01 -self_collision_stiffness inf)
+# restart faults: a directory, a missing file, a file that is not HDF5
+robustness_case(restart_directory 3 2 ${sheet} "Checkpoint tests is a directory: expected a file (one of the checkpoint_NNNNNN.h5 in it" -- -restart tests)
+robustness_case(restart_missing 3 1 ${sheet} "Checkpoint tests/no_such_checkpoint.h5 does not exist" -- -restart tests/no_such_checkpoint.h5)
+robustness_case(restart_not_hdf5 3 1 ${sheet} "Checkpoint tests/data/table.obj cannot be opened as an HDF5 file" -- -restart tests/data/table.obj)
