@@ -250,7 +250,7 @@ PetscErrorCode ClothSetUp(Cloth cloth)
   else if (cloth->perturbation > 0)
     PetscCall(PetscPrintf(cloth->comm, "Start imperfections: free particles moved along the fabric's normal by up to %g m (seed %" PetscInt_FMT ")\n", (double)cloth->perturbation, cloth->perturbation_seed));
   cloth->nglobal = cloth->model->nparticles;
-  PetscCheck(cloth->nglobal >= size, cloth->comm, PETSC_ERR_ARG_OUTOFRANGE, "%" PetscInt_FMT " particles cannot be shared by %d ranks", cloth->nglobal, size);
+  PetscCheck(cloth->nglobal >= size, cloth->comm, PETSC_ERR_USER_INPUT, "%" PetscInt_FMT " particles cannot be shared by %d ranks: expected at most %" PetscInt_FMT " ranks (mpiexec -n) or a finer grid", cloth->nglobal, size, cloth->nglobal);
   PetscCall(ClothModelGetAdjacency(cloth->model, &cloth->xadj, &cloth->adjncy));
   PetscCall(PetscMalloc1(cloth->nglobal, &cloth->part));
   PetscCall(PetscLogEventBegin(ClothLog.partition, 0, 0, 0, 0));

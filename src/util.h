@@ -13,13 +13,6 @@
     if ((call) < 0) SETERRQ(PETSC_COMM_SELF, PETSC_ERR_LIB, "HDF5 call failed: %s", #call); \
   } while (0)
 
-/* METIS returns METIS_OK (= 1) on success, so it must not go through a "nonzero is an error" check. */
-#define ClothCallMETIS(call) \
-  do { \
-    int metis_status_ = (call); \
-    PetscCheck(metis_status_ == METIS_OK, PETSC_COMM_SELF, PETSC_ERR_LIB, "METIS call failed (status %d): %s", metis_status_, #call); \
-  } while (0)
-
 /* Maximum length of names (pieces, fabrics, bodies) and paths kept in fixed buffers. */
 #define CLOTH_NAME_LEN 64
 #define CLOTH_PATH_LEN PETSC_MAX_PATH_LEN

@@ -39,3 +39,9 @@ robustness_case(self_collision_stiffness_inf 2 1 ${sheet} "Self-collision needs 
 robustness_case(restart_directory 3 2 ${sheet} "Checkpoint tests is a directory: expected a file (one of the checkpoint_NNNNNN.h5 in it" -- -restart tests)
 robustness_case(restart_missing 3 1 ${sheet} "Checkpoint tests/no_such_checkpoint.h5 does not exist" -- -restart tests/no_such_checkpoint.h5)
 robustness_case(restart_not_hdf5 3 1 ${sheet} "Checkpoint tests/data/table.obj cannot be opened as an HDF5 file" -- -restart tests/data/table.obj)
+
+# A METIS failure on rank 0 is raised on every rank (src/partition.c), on 1 and 2 ranks.
+clothsim_add_test_program(test_partition_failure test_partition_failure.c)
+clothsim_add_mpi_test(robust_metis_failure_np1 1 $<TARGET_FILE:test_partition_failure>)
+clothsim_add_mpi_test(robust_metis_failure_np2 2 $<TARGET_FILE:test_partition_failure>)
+set_tests_properties(robust_metis_failure_np1 robust_metis_failure_np2 PROPERTIES TIMEOUT 60)
