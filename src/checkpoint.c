@@ -8,7 +8,8 @@
                 dt_start_time (float64), integrator, scene_name (string), scene_fingerprint,
                 nparticles, nranks (int64, the ranks that wrote it), code_version, git_revision
                 (string), checksum_method (string), info_checksum (uint64, see
-                CheckpointInfoChecksum), complete (int64 = 1, written last: the end marker). */
+                CheckpointInfoChecksum), run_id (uint64, optional: the run that wrote it), complete
+                (int64 = 1, written last: the end marker). */
 #define _POSIX_C_SOURCE 200809L
 #include <dirent.h>
 #include <errno.h>
@@ -150,6 +151,7 @@ static PetscErrorCode CheckpointWriteAttributes(MPI_Comm comm, hid_t state, cons
   PetscCall(ClothH5AttributeWriteString(state, "git_revision", CLOTHSIM_GIT_REVISION));
   PetscCall(ClothH5AttributeWriteString(state, "checksum_method", CHECKPOINT_CHECKSUM_METHOD));
   PetscCall(ClothH5AttributeWriteUInt64(state, "info_checksum", CheckpointInfoChecksum(info, nparticles)));
+  if (info->run_id) PetscCall(ClothH5AttributeWriteUInt64(state, "run_id", info->run_id));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -208,11 +210,30 @@ static int CompareInt64Descending(const void *a, const void *b)
   return (x < y) - (x > y);
 }
 
+/* Rank 0 only: whether the checkpoint at path was written by run run_id (its attribute /state/run_id), read
+   serially with HDF5's errors silenced; a file without it (another run's, or an older clothsim's) is not. */
+static PetscBool CheckpointOfRun(const char path[], uint64_t run_id)
+{
+  H5E_auto2_t print_errors;
+  void       *print_errors_data;
+  uint64_t    id   = 0;
+  hid_t       file = -1, attr = -1;
+
+  if (H5Eget_auto2(H5E_DEFAULT, &print_errors, &print_errors_data) < 0 || H5Eset_auto2(H5E_DEFAULT, NULL, NULL) < 0) return PETSC_FALSE;
+  if ((file = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT)) >= 0 && H5Aexists_by_name(file, "state", "run_id", H5P_DEFAULT) > 0 && (attr = H5Aopen_by_name(file, "state", "run_id", H5P_DEFAULT, H5P_DEFAULT)) >= 0 &&
+      H5Aread(attr, H5T_NATIVE_UINT64, &id) < 0)
+    id = 0;
+  if (attr >= 0) H5Aclose(attr);
+  if (file >= 0) H5Fclose(file);
+  H5Eset_auto2(H5E_DEFAULT, print_errors, print_errors_data);
+  return run_id && id == run_id ? PETSC_TRUE : PETSC_FALSE;
+}
+
 /* Rank 0 only, hence plain C that reports an errno value instead of raising a PETSc error (which would
-   leave the other ranks waiting): deletes checkpoint_*.h5 in dir with step <= newest beyond the
-   `keep` latest of them. Checkpoints after `newest` (left by an earlier run that went further) are
-   not this run's to delete. */
-static int CheckpointRemoveOldLocal(const char dir[], PetscInt64 newest, PetscInt keep)
+   leave the other ranks waiting): deletes checkpoint_*.h5 in dir of run run_id with step <= newest beyond the
+   `keep` latest of them. Checkpoints after `newest` (left by an earlier run that went further) and those of
+   other runs sharing the directory are not this run's to delete. */
+static int CheckpointRemoveOldLocal(const char dir[], PetscInt64 newest, PetscInt keep, uint64_t run_id)
 {
   DIR           *d;
   struct dirent *entry;
@@ -222,7 +243,11 @@ static int CheckpointRemoveOldLocal(const char dir[], PetscInt64 newest, PetscIn
 
   if (!(d = opendir(dir))) return errno;
   while (!err && (entry = readdir(d))) {
+    char path[CLOTH_PATH_LEN];
+
     if (!CheckpointNameStep(entry->d_name, &step) || step > newest) continue;
+    snprintf(path, sizeof(path), "%s/%s", dir, entry->d_name);
+    if (!CheckpointOfRun(path, run_id)) continue;
     if (n == cap) {
       PetscInt64 *grown = realloc(steps, (cap = 2 * cap + 16) * sizeof(*steps));
 
@@ -245,14 +270,14 @@ static int CheckpointRemoveOldLocal(const char dir[], PetscInt64 newest, PetscIn
   return err;
 }
 
-static PetscErrorCode CheckpointRemoveOld(MPI_Comm comm, const char dir[], PetscInt64 newest, PetscInt keep)
+static PetscErrorCode CheckpointRemoveOld(MPI_Comm comm, const char dir[], PetscInt64 newest, PetscInt keep, uint64_t run_id)
 {
   PetscMPIInt rank;
   int         err = 0;
 
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  if (rank == 0) err = CheckpointRemoveOldLocal(dir, newest, keep);
+  if (rank == 0) err = CheckpointRemoveOldLocal(dir, newest, keep, run_id);
   PetscCallMPI(MPI_Bcast(&err, 1, MPI_INT, 0, comm));
   PetscCheck(!err, comm, PETSC_ERR_FILE_WRITE, "Cannot remove old checkpoints in %s: %s", dir, strerror(err));
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -272,8 +297,34 @@ PetscErrorCode ClothCheckpointWrite(MPI_Comm comm, const char dir[], const Cloth
   PetscCall(CheckpointWriteFile(comm, file, info, nfields, fields));
   PetscCall(ClothH5FileClose(&file));
   PetscCall(ClothFileRename(comm, tmp, path));
-  if (keep > 0) PetscCall(CheckpointRemoveOld(comm, dir, info->step, keep));
+  if (keep > 0) PetscCall(CheckpointRemoveOld(comm, dir, info->step, keep, info->run_id));
   if (path_out) PetscCall(PetscStrncpy(path_out, path, path_len));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothCheckpointFindNewest(MPI_Comm comm, const char dir[], char path[], size_t len, PetscInt *count)
+{
+  PetscMPIInt rank;
+  PetscInt64  found[2] = {-1, 0}; /* newest step, count */
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  if (rank == 0) {
+    DIR *d = opendir(dir);
+
+    for (struct dirent *entry; d && (entry = readdir(d));) {
+      PetscInt64 step;
+
+      if (!CheckpointNameStep(entry->d_name, &step)) continue;
+      found[0] = PetscMax(found[0], step);
+      found[1]++;
+    }
+    if (d) closedir(d);
+  }
+  PetscCallMPI(MPI_Bcast(found, 2, MPIU_INT64, 0, comm));
+  path[0] = 0;
+  if (found[1]) PetscCall(PetscSNPrintf(path, len, "%s/checkpoint_%06" PetscInt64_FMT ".h5", dir, found[0]));
+  *count = (PetscInt)found[1];
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -320,6 +371,9 @@ static PetscErrorCode CheckpointReadInfo(hid_t state, ClothCheckpointInfo *info,
   PetscCall(ClothH5AttributeReadInt64(state, "scene_fingerprint", &info->scene_fingerprint));
   PetscCall(ClothH5AttributeReadInt64(state, "nparticles", &info->nparticles));
   PetscCall(ClothH5AttributeReadUInt64(state, "info_checksum", &stored));
+  PetscCall(ClothH5AttributeExists(state, "run_id", &exists));
+  info->run_id = 0;
+  if (exists) PetscCall(ClothH5AttributeReadUInt64(state, "run_id", &info->run_id));
   if (stored != CheckpointInfoChecksum(info, info->nparticles))
     PetscCall(CheckpointRefuse(refusal, PETSC_ERR_FILE_READ, "is corrupt: its attributes step, time, dt, dt_start_step, dt_start_time, integrator, scene_fingerprint and nparticles do not match their checksum info_checksum"));
   PetscFunctionReturn(PETSC_SUCCESS);

@@ -12,6 +12,14 @@ PetscErrorCode ClothFileExists(MPI_Comm comm, const char path[], PetscBool *exis
    starts with what (e.g. "Checkpoint") and says why: missing, a directory (suggesting expected, e.g.
    "a checkpoint_NNNNNN.h5 in it"), or the OS reason. */
 PetscErrorCode ClothFileCheckReadable(MPI_Comm comm, const char what[], const char path[], const char in_directory[]);
+/* Claims dir for this run: rank 0 takes a write lock (fcntl) on dir/.clothsim.lock, held until
+   ClothFileUnlockDirectory or the process ends (also by a crash or SIGKILL, so a lock is never stale), and
+   writes into it who holds it: holder (e.g. the scene), the pid, host and start time. Errors naming the holder
+   when another live run holds it; warns and goes on without a lock where the file system has no locks.
+   *fd: the lock's descriptor on rank 0, -1 elsewhere. */
+PetscErrorCode ClothFileLockDirectory(MPI_Comm comm, const char dir[], const char holder[], int *fd);
+/* Releases the lock of ClothFileLockDirectory (NULL-safe on fd < 0). Not collective. */
+PetscErrorCode ClothFileUnlockDirectory(int *fd);
 /* After a barrier (everyone has finished writing from), atomically renames from to to (rename(2)),
    replacing to if it exists. */
 PetscErrorCode ClothFileRename(MPI_Comm comm, const char from[], const char to[]);

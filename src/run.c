@@ -1,6 +1,7 @@
 /* ClothRun (see run.h). */
 #define _POSIX_C_SOURCE 200809L
 #include <signal.h>
+#include <time.h>
 #include <unistd.h>
 #include "run.h"
 #include "output.h"
@@ -10,6 +11,7 @@
 #include "quality.h"
 #include "log.h"
 #include "options.h"
+#include "fileutil.h"
 
 struct _n_ClothRun {
   MPI_Comm         comm;
@@ -29,6 +31,9 @@ struct _n_ClothRun {
   PetscReal dt_start_time;     /* changed dt): time = dt_start_time + dt (step - dt_start_step) */
   PetscBool dt_set;            /* -dt given: it overrides the step of a restart's checkpoint */
   PetscBool restart_any_scene; /* -restart_any_scene: accept a checkpoint of another scene (same particle count) */
+  PetscBool output_overwrite;  /* -output_overwrite: a new run may replace the results in output_dir */
+  int       output_lock;       /* rank 0: the lock on output_dir (fileutil.h); -1 elsewhere */
+  uint64_t  run_id;            /* this run's identity in its checkpoints; a restart continues its checkpoint's */
   char      output_dir[CLOTH_PATH_LEN];
   PetscInt  output_every, checkpoint_every, checkpoint_keep;
   char      restart[CLOTH_PATH_LEN];
@@ -78,6 +83,7 @@ PetscErrorCode ClothRunCreate(MPI_Comm comm, Scene scene, ClothRun *run)
   r->output_every     = scene->run.output_every > 0 ? scene->run.output_every : 10;
   r->checkpoint_every = scene->run.checkpoint_every;
   r->checkpoint_keep  = 2;
+  r->output_lock      = -1;
   r->progress_seconds = 2.0;
   PetscCall(PetscSNPrintf(r->output_dir, sizeof(r->output_dir), "output/%s", scene->name));
   PetscCall(ClothCreate(comm, scene, &r->cloth));
@@ -143,6 +149,7 @@ PetscErrorCode ClothRunSetFromOptions(ClothRun run)
   PetscCall(PetscOptionsReal("-t_final", "Simulated time to reach, s", "ClothRunSolve", run->t_final, &run->t_final, &set_tfinal));
   PetscCall(PetscOptionsInt("-steps", "Number of steps (instead of -t_final)", "ClothRunSolve", run->steps, &run->steps, &set_steps));
   PetscCall(PetscOptionsString("-output_dir", "Directory for the XDMF series and checkpoints", "ClothRunSetUp", run->output_dir, run->output_dir, sizeof(run->output_dir), NULL));
+  PetscCall(PetscOptionsBool("-output_overwrite", "A new run may replace the results already in -output_dir (otherwise refused; -restart continues them)", "ClothRunSetUp", run->output_overwrite, &run->output_overwrite, NULL));
   PetscCall(PetscOptionsInt("-output_every", "Write an XDMF frame every K steps (0: only the first and last)", "ClothRunSolve", run->output_every, &run->output_every, NULL));
   PetscCall(PetscOptionsInt("-checkpoint_every", "Write a checkpoint every K steps (0: only at the end)", "ClothRunSolve", run->checkpoint_every, &run->checkpoint_every, NULL));
   PetscCall(PetscOptionsInt("-checkpoint_keep", "Keep only the newest N checkpoints (0: keep all)", "ClothCheckpointWrite", run->checkpoint_keep, &run->checkpoint_keep, NULL));
@@ -191,6 +198,7 @@ static PetscErrorCode ClothRunFillCheckpointInfo(ClothRun run, ClothCheckpointIn
   info->dt_start_time     = run->dt_start_time;
   info->scene_fingerprint = run->scene->fingerprint;
   info->nparticles        = nglobal;
+  info->run_id            = run->run_id;
   PetscCall(PetscStrncpy(info->integrator, type, sizeof(info->integrator)));
   PetscCall(PetscStrncpy(info->scene_name, run->scene->name, sizeof(info->scene_name)));
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -279,6 +287,7 @@ static PetscErrorCode ClothRunRestore(ClothRun run)
   }
   run->step = (PetscInt)info.step;
   run->time = info.time;
+  if (info.run_id) run->run_id = info.run_id; /* the same run continues: its pruning covers its earlier checkpoints */
   if (run->sewing) PetscCall(ClothSewingSetStateVec(run->sewing, run->natural_sewn, run->time));
   for (PetscInt f = 0; f < CLOTH_SLIDER_FAMILIES; f++)
     if (run->natural_slider[f]) PetscCall(ClothHysteresisSetState(run->cloth, (ClothSliderFamily)f, run->natural_slider[f]));
@@ -357,10 +366,60 @@ static PetscErrorCode ClothRunAddBodyMeshes(ClothRun run)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* A new identity for this run's checkpoints: rank 0's clock and pid, mixed, never 0. */
+static PetscErrorCode ClothRunNewId(ClothRun run)
+{
+  PetscMPIInt rank;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(run->comm, &rank));
+  if (rank == 0) {
+    uint64_t x = ((uint64_t)time(NULL) << 32) ^ ((uint64_t)getpid() << 12) ^ (uint64_t)(1e6 * MPI_Wtime());
+
+    x           = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    x           = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
+    run->run_id = (x ^ (x >> 31)) | 1;
+  }
+  PetscCallMPI(MPI_Bcast(&run->run_id, 1, MPI_UINT64_T, 0, run->comm));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Makes output_dir this run's: a lock against a second live run in it, and, for a new run, no results of an
+   earlier one (a series, checkpoints) that it would overwrite or mix with, unless -output_overwrite. */
+static PetscErrorCode ClothRunClaimOutput(ClothRun run)
+{
+  char      holder[CLOTH_NAME_LEN + 16], path[CLOTH_PATH_LEN], newest[CLOTH_PATH_LEN];
+  PetscInt  ncheckpoints;
+  PetscBool series, xdmf;
+
+  PetscFunctionBeginUser;
+  PetscCall(ClothFileMakeDirectory(run->comm, run->output_dir));
+  PetscCall(PetscSNPrintf(holder, sizeof(holder), "scene %s", run->scene->name));
+  PetscCall(ClothFileLockDirectory(run->comm, run->output_dir, holder, &run->output_lock));
+  PetscCall(ClothRunNewId(run));
+  if (run->restart[0]) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(PetscSNPrintf(path, sizeof(path), "%s/%s.h5", run->output_dir, run->scene->name));
+  PetscCall(ClothFileExists(run->comm, path, &series));
+  PetscCall(PetscSNPrintf(path, sizeof(path), "%s/%s.xdmf", run->output_dir, run->scene->name));
+  PetscCall(ClothFileExists(run->comm, path, &xdmf));
+  PetscCall(ClothCheckpointFindNewest(run->comm, run->output_dir, newest, sizeof(newest), &ncheckpoints));
+  if (run->output_overwrite) { /* the series is replaced; checkpoints are another run's, kept (and never pruned by this one) */
+    if (ncheckpoints)
+      PetscCall(
+          PetscFPrintf(run->comm, PETSC_STDERR, "WARNING: -output_overwrite: the %" PetscInt_FMT " checkpoint(s) of an earlier run in %s stay (the newest %s); this run's are told apart by their run_id\n", ncheckpoints, run->output_dir, newest));
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
+  PetscCheck(!series && !xdmf && !ncheckpoints, run->comm, PETSC_ERR_USER_INPUT,
+             "output directory %s already holds results (%s%s%" PetscInt_FMT " checkpoint(s)%s%s): continue them with -restart %s, replace them with -output_overwrite, or choose another -output_dir", run->output_dir,
+             series || xdmf ? run->scene->name : "", series || xdmf ? " series, " : "", ncheckpoints, ncheckpoints ? ", the newest " : "", newest, ncheckpoints ? newest : "CHECKPOINT");
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode ClothRunSetUp(ClothRun run)
 {
   PetscFunctionBeginUser;
   PetscCall(PetscLogStagePush(ClothLog.stage_setup));
+  PetscCall(ClothRunClaimOutput(run));
   PetscCall(ClothSetUp(run->cloth));
   if (run->collision) PetscCall(ClothCollisionSetUp(run->collision)); /* reads meshes, pushes out particles that start inside */
   {
@@ -614,6 +673,7 @@ PetscErrorCode ClothRunDestroy(ClothRun *run)
   PetscFunctionBeginUser;
   if (!r) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(ClothOutputDestroy(&r->output));
+  PetscCall(ClothFileUnlockDirectory(&r->output_lock));
   PetscCall(ClothIntegratorDestroy(&r->integrator));
   PetscCall(ClothCollisionDestroy(&r->collision));
   PetscCall(ClothSewingDestroy(&r->sewing));

@@ -45,3 +45,8 @@ clothsim_add_test_program(test_partition_failure test_partition_failure.c)
 clothsim_add_mpi_test(robust_metis_failure_np1 1 $<TARGET_FILE:test_partition_failure>)
 clothsim_add_mpi_test(robust_metis_failure_np2 2 $<TARGET_FILE:test_partition_failure>)
 set_tests_properties(robust_metis_failure_np1 robust_metis_failure_np2 PROPERTIES TIMEOUT 60)
+
+# An output directory belongs to one run: a new run into used results and a second live run are refused, pruning
+# keeps other runs' checkpoints, the lock goes with its holder (tests/output_dir_ownership.sh).
+clothsim_add_script_test(robust_output_dir_ownership output_dir_ownership.sh)
+set_tests_properties(robust_output_dir_ownership PROPERTIES TIMEOUT 300 PROCESSORS 2 LABELS robustness)
