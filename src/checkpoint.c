@@ -283,6 +283,23 @@ static PetscErrorCode CheckpointRemoveOld(MPI_Comm comm, const char dir[], Petsc
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* Room for the checkpoint's datasets (8 bytes a value) plus 1 MB of metadata, checked before the file is created. */
+static PetscErrorCode CheckpointCheckSpace(MPI_Comm comm, const char dir[], const char tmp[], PetscInt nfields, const ClothCheckpointField fields[])
+{
+  double   bytes = 1e6;
+  PetscInt n;
+  char     what[CLOTH_PATH_LEN + 32];
+
+  PetscFunctionBeginUser;
+  for (PetscInt f = 0; f < nfields; f++) {
+    PetscCall(VecGetSize(fields[f].vec, &n));
+    bytes += 8.0 * (double)n;
+  }
+  PetscCall(PetscSNPrintf(what, sizeof(what), "checkpoint %s", tmp));
+  PetscCall(ClothFileCheckSpace(comm, dir, bytes, what));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode ClothCheckpointWrite(MPI_Comm comm, const char dir[], const ClothCheckpointInfo *info, PetscInt nfields, const ClothCheckpointField fields[], PetscInt keep, char path_out[], size_t path_len)
 {
   char  path[CLOTH_PATH_LEN], tmp[CLOTH_PATH_LEN];
@@ -293,6 +310,7 @@ PetscErrorCode ClothCheckpointWrite(MPI_Comm comm, const char dir[], const Cloth
   PetscCall(PetscSNPrintf(path, sizeof(path), "%s/checkpoint_%06" PetscInt64_FMT ".h5", dir, info->step));
   PetscCall(PetscSNPrintf(tmp, sizeof(tmp), "%s/.checkpoint_%06" PetscInt64_FMT ".h5.tmp", dir, info->step));
   PetscCall(ClothFileMakeDirectory(comm, dir));
+  PetscCall(CheckpointCheckSpace(comm, dir, tmp, nfields, fields));
   PetscCall(ClothH5FileCreate(comm, tmp, &file));
   PetscCall(CheckpointWriteFile(comm, file, info, nfields, fields));
   PetscCall(ClothH5FileClose(&file));

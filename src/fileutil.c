@@ -8,6 +8,7 @@
 #include <time.h>
 #include <unistd.h>
 #include <sys/stat.h>
+#include <sys/statvfs.h>
 #include "fileutil.h"
 
 #define FILE_LOCK_NAME ".clothsim.lock"
@@ -161,6 +162,44 @@ PetscErrorCode ClothFileUnlockDirectory(int *fd)
     close(*fd); /* releases the lock */
   }
   *fd = -1;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothFileCommitText(MPI_Comm comm, FILE *fp, const char tmp[], const char path[])
+{
+  PetscMPIInt rank;
+  int         err = 0;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  if (rank == 0) {
+    errno = 0;
+    if (fflush(fp) != 0 || ferror(fp)) err = errno ? errno : EIO;
+    if (!err && fsync(fileno(fp)) != 0) err = errno;
+    if (fclose(fp) != 0 && !err) err = errno;
+    if (err) remove(tmp);
+  }
+  PetscCallMPI(MPI_Bcast(&err, 1, MPI_INT, 0, comm));
+  PetscCheck(!err, comm, PETSC_ERR_FILE_WRITE, "Cannot write %s: %s; %s is left as it was", tmp, strerror(err), path);
+  PetscCall(ClothFileRename(comm, tmp, path));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothFileCheckSpace(MPI_Comm comm, const char dir[], double bytes, const char what[])
+{
+  PetscMPIInt rank;
+  double      avail = -1; /* -1: unknown (statvfs failed): the write goes ahead */
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  if (rank == 0) {
+    struct statvfs fs;
+
+    if (statvfs(dir, &fs) == 0) avail = (double)fs.f_bavail * (double)fs.f_frsize;
+  }
+  PetscCallMPI(MPI_Bcast(&avail, 1, MPI_DOUBLE, 0, comm));
+  PetscCheck(avail < 0 || avail >= bytes, comm, PETSC_ERR_FILE_WRITE, "Cannot write %s: it needs about %.3g MB, the file system of %s has %.3g MB free (%s); the files already written are left as they were", what, bytes / 1e6, dir, avail / 1e6,
+             strerror(ENOSPC));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -20,6 +20,14 @@ PetscErrorCode ClothFileCheckReadable(MPI_Comm comm, const char what[], const ch
 PetscErrorCode ClothFileLockDirectory(MPI_Comm comm, const char dir[], const char holder[], int *fd);
 /* Releases the lock of ClothFileLockDirectory (NULL-safe on fd < 0). Not collective. */
 PetscErrorCode ClothFileUnlockDirectory(int *fd);
+/* Closes a text file that PetscFOpen(comm, tmp, "w") opened (written on rank 0), checking every write (a full
+   disk shows only when the buffer is flushed) and syncing it, then renames tmp onto path. On a write error
+   tmp is removed and path left as it was; the error names the file and the OS reason (ENOSPC). */
+PetscErrorCode ClothFileCommitText(MPI_Comm comm, FILE *fp, const char tmp[], const char path[]);
+/* Errors (naming what, dir and the sizes) when the file system of dir has less than bytes free for an
+   unprivileged user, before anything is written: a full disk found half-way through an HDF5 write leaves
+   only "H5Dwrite failed". */
+PetscErrorCode ClothFileCheckSpace(MPI_Comm comm, const char dir[], double bytes, const char what[]);
 /* After a barrier (everyone has finished writing from), atomically renames from to to (rename(2)),
    replacing to if it exists. */
 PetscErrorCode ClothFileRename(MPI_Comm comm, const char from[], const char to[]);

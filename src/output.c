@@ -257,8 +257,7 @@ static PetscErrorCode OutputWriteXdmf(ClothOutput out)
   PetscCall(PetscFPrintf(out->comm, fp, "    <Grid Name=\"%s\" GridType=\"Collection\" CollectionType=\"Temporal\">\n", out->name));
   for (PetscInt i = 0; i < out->nframes; i++) PetscCall(OutputXdmfFrame(out, fp, i));
   PetscCall(PetscFPrintf(out->comm, fp, "    </Grid>\n  </Domain>\n</Xdmf>\n"));
-  PetscCall(PetscFClose(out->comm, fp));
-  PetscCall(ClothFileRename(out->comm, tmp, out->xdmfpath));
+  PetscCall(ClothFileCommitText(out->comm, fp, tmp, out->xdmfpath));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -313,6 +312,26 @@ static PetscErrorCode OutputWriteFrameCounts(hid_t group, const ClothOutputFrame
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* Room for a frame (positions and node fields, 8 bytes a value) plus 1 MB, checked before the series is touched. */
+static PetscErrorCode OutputCheckFrameSpace(ClothOutput out, PetscInt64 step)
+{
+  double bytes = 1e6 + 24.0 * (double)out->nparticles;
+  char   what[CLOTH_PATH_LEN + 64], dir[CLOTH_PATH_LEN];
+  char  *slash;
+
+  PetscFunctionBeginUser;
+  for (PetscInt f = 0; f < OUTPUT_NFIELDS; f++) bytes += 8.0 * (double)(OutputNodeFields[f].ncomp * out->nparticles);
+  PetscCall(PetscStrncpy(dir, out->h5path, sizeof(dir)));
+  slash = strrchr(dir, '/');
+  if (slash)
+    *slash = 0;
+  else
+    PetscCall(PetscStrncpy(dir, ".", sizeof(dir)));
+  PetscCall(PetscSNPrintf(what, sizeof(what), "the frame of step %" PetscInt64_FMT " into %s", step, out->h5path));
+  PetscCall(ClothFileCheckSpace(out->comm, dir, bytes, what));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 /* Writes group /frames/NNNNNN (replacing one of the same step) with the positions, node fields and counts. */
 static PetscErrorCode OutputWriteFrameFields(ClothOutput out, PetscInt64 step, PetscReal time, Vec position, const Vec fields[], const ClothOutputFrame *content)
 {
@@ -320,6 +339,7 @@ static PetscErrorCode OutputWriteFrameFields(ClothOutput out, PetscInt64 step, P
   char  group[CLOTH_NAME_LEN];
 
   PetscFunctionBeginUser;
+  PetscCall(OutputCheckFrameSpace(out, step));
   PetscCall(OutputFrameGroupName(step, group, sizeof(group)));
   PetscCall(OutputFileOpen(out, &file));
   ClothCallHDF5(frames = H5Gopen2(file, "frames", H5P_DEFAULT));

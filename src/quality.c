@@ -1,6 +1,7 @@
 /* Garment quality at the end of a run (see quality.h). */
 #include "quality.h"
 #include "sewing.h"
+#include "fileutil.h"
 
 /* Prints the n particles with the largest strain (natural Vec), with their piece and grid node. */
 static PetscErrorCode ViewMostStrained(Cloth cloth, Vec natural, PetscInt n)
@@ -88,6 +89,7 @@ PetscErrorCode ClothRunWriteQuality(ClothRun run, const char path[], PetscReal w
   PetscReal        gap = 0, strain;
   PetscMPIInt      size;
   FILE            *fp;
+  char             tmp[CLOTH_PATH_LEN];
 
   PetscFunctionBeginUser;
   PetscCall(ClothRunGetCloth(run, &cloth));
@@ -103,13 +105,15 @@ PetscErrorCode ClothRunWriteQuality(ClothRun run, const char path[], PetscReal w
   PetscCall(ClothGetState(cloth, &x, &v));
   PetscCall(ClothComputeEnergy(cloth, x, v, &energy));
   PetscCallMPI(MPI_Comm_size(PETSC_COMM_WORLD, &size));
-  PetscCall(PetscFOpen(PETSC_COMM_WORLD, path, "w", &fp));
+  PetscCall(PetscSNPrintf(tmp, sizeof(tmp), "%s.tmp", path)); /* renamed when complete: a full disk leaves no half file */
+  PetscCall(PetscFOpen(PETSC_COMM_WORLD, tmp, "w", &fp));
   PetscCall(PetscFPrintf(PETSC_COMM_WORLD, fp, "{\n  \"max_seam_gap_m\": %.6e,\n  \"sewn_pairs\": %" PetscInt_FMT ",\n  \"seam_pairs\": %" PetscInt_FMT ",\n", (double)gap, sewn, total));
   PetscCall(PetscFPrintf(PETSC_COMM_WORLD, fp, "  \"particles_inside_body\": %" PetscInt_FMT ",\n  \"max_link_strain\": %.6e,\n  \"kinetic_energy_j\": %.6e,\n", inside, (double)strain, (double)energy.kinetic));
   PetscCall(PetscFPrintf(PETSC_COMM_WORLD, fp, "  \"wall_s\": %.3f,\n  \"ranks\": %d,\n", (double)wall_seconds, (int)size));
   PetscCall(WriteSeamLinks(cloth, fp));
   PetscCall(PetscFPrintf(PETSC_COMM_WORLD, fp, "}\n"));
-  PetscCall(PetscFClose(PETSC_COMM_WORLD, fp));
-  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "Garment quality: widest seam gap %.2f mm (%" PetscInt_FMT "/%" PetscInt_FMT " pairs sewn), %" PetscInt_FMT " particles inside the body, max link strain %.4f, kinetic energy %.3e J -> %s\n", (double)(1e3 * gap), sewn, total, inside, (double)strain, (double)energy.kinetic, path));
+  PetscCall(ClothFileCommitText(PETSC_COMM_WORLD, fp, tmp, path));
+  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "Garment quality: widest seam gap %.2f mm (%" PetscInt_FMT "/%" PetscInt_FMT " pairs sewn), %" PetscInt_FMT " particles inside the body, max link strain %.4f, kinetic energy %.3e J -> %s\n",
+                        (double)(1e3 * gap), sewn, total, inside, (double)strain, (double)energy.kinetic, path));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

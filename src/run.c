@@ -12,6 +12,7 @@
 #include "log.h"
 #include "options.h"
 #include "fileutil.h"
+#include "h5util.h"
 
 struct _n_ClothRun {
   MPI_Comm         comm;
@@ -396,6 +397,11 @@ static PetscErrorCode ClothRunClaimOutput(ClothRun run)
   PetscCall(ClothFileMakeDirectory(run->comm, run->output_dir));
   PetscCall(PetscSNPrintf(holder, sizeof(holder), "scene %s", run->scene->name));
   PetscCall(ClothFileLockDirectory(run->comm, run->output_dir, holder, &run->output_lock));
+  /* the longest name the run will open, checked now rather than at its first checkpoint, after the computing */
+  PetscCall(PetscSNPrintf(path, sizeof(path), "%s/.checkpoint_%06d.h5.tmp", run->output_dir, 0));
+  PetscCall(ClothH5CheckPathLength(run->comm, path));
+  PetscCall(PetscSNPrintf(path, sizeof(path), "%s/%s.h5", run->output_dir, run->scene->name));
+  PetscCall(ClothH5CheckPathLength(run->comm, path));
   PetscCall(ClothRunNewId(run));
   if (run->restart[0]) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(PetscSNPrintf(path, sizeof(path), "%s/%s.h5", run->output_dir, run->scene->name));

@@ -50,3 +50,13 @@ set_tests_properties(robust_metis_failure_np1 robust_metis_failure_np2 PROPERTIE
 # keeps other runs' checkpoints, the lock goes with its holder (tests/output_dir_ownership.sh).
 clothsim_add_script_test(robust_output_dir_ownership output_dir_ownership.sh)
 set_tests_properties(robust_output_dir_ownership PROPERTIES TIMEOUT 300 PROCESSORS 2 LABELS robustness)
+
+# A full disk stops the run with exit 3 naming the file and "No space left on device", leaving valid files
+# (tests/full_disk.sh; needs root to mount a small tmpfs, else skipped).
+clothsim_add_script_test(robust_full_disk full_disk.sh)
+set_tests_properties(robust_full_disk PROPERTIES TIMEOUT 300 PROCESSORS 2 SKIP_RETURN_CODE 77 LABELS robustness)
+
+# A path longer than Open MPI's ompio opens is refused before the first step, not after the computing
+# (tests/long_path.sh: with OMPI_MCA_io=romio321 the same run works).
+clothsim_add_script_test(robust_long_output_path long_path.sh)
+set_tests_properties(robust_long_output_path PROPERTIES TIMEOUT 120 SKIP_RETURN_CODE 77 LABELS robustness)
