@@ -153,7 +153,7 @@ PetscErrorCode ClothRunSetFromOptions(ClothRun run)
   PetscCall(PetscOptionsBool("-output_overwrite", "A new run may replace the results already in -output_dir (otherwise refused; -restart continues them)", "ClothRunSetUp", run->output_overwrite, &run->output_overwrite, NULL));
   PetscCall(PetscOptionsInt("-output_every", "Write an XDMF frame every K steps (0: only the first and last)", "ClothRunSolve", run->output_every, &run->output_every, NULL));
   PetscCall(PetscOptionsInt("-checkpoint_every", "Write a checkpoint every K steps (0: only at the end)", "ClothRunSolve", run->checkpoint_every, &run->checkpoint_every, NULL));
-  PetscCall(PetscOptionsInt("-checkpoint_keep", "Keep only the newest N checkpoints (0: keep all)", "ClothCheckpointWrite", run->checkpoint_keep, &run->checkpoint_keep, NULL));
+  PetscCall(PetscOptionsInt("-checkpoint_keep", "Keep only the newest N checkpoints of this run (0: keep all)", "ClothCheckpointWrite", run->checkpoint_keep, &run->checkpoint_keep, NULL));
   PetscCall(PetscOptionsString("-restart", "Continue from this checkpoint (any number of ranks)", "ClothRunSetUp", run->restart, run->restart, sizeof(run->restart), NULL));
   PetscCall(PetscOptionsBool("-restart_any_scene", "Continue from a checkpoint of another scene (one edited on purpose) with the same particle count", "ClothRunSetUp", run->restart_any_scene, &run->restart_any_scene, NULL));
   PetscCall(PetscOptionsReal("-progress_seconds", "Wall seconds between progress lines (0: every step)", "ClothRunSolve", run->progress_seconds, &run->progress_seconds, NULL));

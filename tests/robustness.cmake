@@ -60,3 +60,8 @@ set_tests_properties(robust_full_disk PROPERTIES TIMEOUT 300 PROCESSORS 2 SKIP_R
 # (tests/long_path.sh: with OMPI_MCA_io=romio321 the same run works).
 clothsim_add_script_test(robust_long_output_path long_path.sh)
 set_tests_properties(robust_long_output_path PROPERTIES TIMEOUT 120 SKIP_RETURN_CODE 77 LABELS robustness)
+
+# User errors end with one message and exit 2 whether raised on every rank or on one (no hang): tests/error_exit.sh.
+clothsim_add_test_program(test_error_exit test_error_exit.c)
+clothsim_add_script_test(robust_error_exit error_exit.sh)
+set_tests_properties(robust_error_exit PROPERTIES TIMEOUT 200 PROCESSORS 2 LABELS robustness)
