@@ -15,10 +15,12 @@
 static MPI_Comm ClothErrorComm = MPI_COMM_NULL;
 
 /* The exit status of a user error, or 0 for an internal error. PETSc's own option parser reports a
-   malformed value (-dt abc) as an argument error raised in its options code. */
+   malformed value (-dt abc, -cloth_partition foo) as an argument error raised in its options code, and a
+   misspelled type (-ksp_type foo) as an unknown type. */
 static int ClothErrorExitStatus(PetscErrorCode n, const char file[])
 {
-  const char *base = file ? strrchr(file, '/') : NULL;
+  const char *base       = file ? strrchr(file, '/') : NULL;
+  const int   in_options = base && (!strcmp(base, "/options.c") || !strcmp(base, "/aoptions.c"));
 
   switch (n) {
   case PETSC_ERR_USER_INPUT:
@@ -30,9 +32,12 @@ static int ClothErrorExitStatus(PetscErrorCode n, const char file[])
     return CLOTH_EXIT_FILE;
   case PETSC_ERR_NOT_CONVERGED:
     return CLOTH_EXIT_DIVERGED;
+  case PETSC_ERR_ARG_UNKNOWN_TYPE:
+    return CLOTH_EXIT_INPUT;
   case PETSC_ERR_ARG_OUTOFRANGE:
   case PETSC_ERR_ARG_WRONG:
-    return base && strcmp(base, "/options.c") == 0 ? CLOTH_EXIT_INPUT : 0;
+  case PETSC_ERR_USER:
+    return in_options ? CLOTH_EXIT_INPUT : 0;
   default:
     return 0;
   }

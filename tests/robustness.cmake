@@ -65,3 +65,8 @@ set_tests_properties(robust_long_output_path PROPERTIES TIMEOUT 120 SKIP_RETURN_
 clothsim_add_test_program(test_error_exit test_error_exit.c)
 clothsim_add_script_test(robust_error_exit error_exit.sh)
 set_tests_properties(robust_error_exit PROPERTIES TIMEOUT 200 PROCESSORS 2 LABELS robustness)
+# misspelled choices: PETSc's own messages, as one line with exit 2
+robustness_case(partition_unknown 2 2 ${sheet} "Unknown option foo for -cloth_partition. Available options: metis block" -- -cloth_partition foo)
+robustness_case(ksp_type_unknown 2 1 ${sheet} "Unable to find requested KSP type foo" -- -ksp_type foo -steps 1)
+robustness_case(integrator_unknown 2 1 ${sheet} "Unknown integrator 'foo': expected explicit, symplectic or implicit" -- -integrator foo)
+robustness_case(too_many_ranks 2 5 ${sheet} "4 particles cannot be shared by 5 ranks: expected at most 4 ranks" -- -grid 2)
