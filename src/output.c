@@ -100,6 +100,14 @@ static PetscErrorCode OutputGroupOpenOrCreate(hid_t loc, const char name[], hid_
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+PetscErrorCode ClothOutputSeriesExists(ClothOutput out, PetscBool *exists, const char **path)
+{
+  PetscFunctionBeginUser;
+  PetscCall(ClothFileExists(out->comm, out->h5path, exists));
+  if (path) *path = out->h5path;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 static PetscErrorCode OutputFileOpen(ClothOutput out, hid_t *file)
 {
   PetscBool opened = PETSC_FALSE;

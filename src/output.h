@@ -44,6 +44,9 @@ PetscErrorCode ClothOutputWriteFrame(ClothOutput out, PetscInt step, PetscReal t
    the same full arrays. Calling it again with the same name replaces that mesh; after a restart call it
    again (the .xdmf lists the meshes added since ClothOutputCreate). Collective. */
 PetscErrorCode ClothOutputAddStaticMesh(ClothOutput out, const char name[], PetscInt nverts, const PetscReal coords[], PetscInt ntris, const PetscInt tris[]);
+/* Whether the series file NAME.h5 is still there (a directory deleted during a run takes it away) and its path
+   (may be NULL). Collective. */
+PetscErrorCode ClothOutputSeriesExists(ClothOutput out, PetscBool *exists, const char **path);
 /* The frames in the series, in step order, including those kept from before a restart. The arrays
    belong to out and stay valid until the next frame is written; any output may be NULL. Not collective. */
 PetscErrorCode ClothOutputGetFrames(ClothOutput out, PetscInt *nframes, const PetscInt64 *steps[], const PetscReal *times[]);

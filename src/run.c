@@ -491,12 +491,30 @@ static PetscErrorCode ClothRunGatherContacts(ClothRun run, ClothOutputFrame *fra
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+static PetscErrorCode ClothRunWriteCheckpoint(ClothRun run);
+
+/* A series that vanished during the run (its directory deleted or moved) cannot take the frame: the state is
+   saved in a checkpoint first (which recreates the directory), then the run stops saying where it is. */
+static PetscErrorCode ClothRunCheckSeries(ClothRun run)
+{
+  PetscBool   exists;
+  const char *path;
+
+  PetscFunctionBeginUser;
+  PetscCall(ClothOutputSeriesExists(run->output, &exists, &path));
+  if (exists) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(ClothRunWriteCheckpoint(run));
+  SETERRQ(run->comm, PETSC_ERR_FILE_OPEN, "Output series %s is gone (was its directory deleted or moved during the run?): the state at step %" PetscInt_FMT " is saved in %s; continue with -restart %s", path, run->step, run->last_checkpoint,
+          run->last_checkpoint);
+}
+
 static PetscErrorCode ClothRunWriteFrame(ClothRun run)
 {
   Vec              x;
   ClothOutputFrame frame;
 
   PetscFunctionBeginUser;
+  PetscCall(ClothRunCheckSeries(run));
   PetscCall(PetscLogEventBegin(ClothLog.output, 0, 0, 0, 0));
   PetscCall(ClothRunGatherNatural(run));
   PetscCall(ClothGetState(run->cloth, &x, NULL));

@@ -4,7 +4,9 @@
 #   (-restart, -output_overwrite, another -output_dir); with -output_overwrite it runs, and its -checkpoint_keep
 #   prunes only its own checkpoints, never the earlier run's (which the old pruning deleted);
 # - a second run into a directory that a live run holds is refused (exit 2) naming the holder, and the lock goes
-#   with its holder: after that run stops (SIGTERM), -restart into the directory works.
+#   with its holder: after that run stops (SIGTERM), -restart into the directory works;
+# - a directory deleted during a run: the run saves its state in a checkpoint (recreating the directory) and
+#   stops with exit 3 naming it, instead of losing everything since the last checkpoint.
 set -u
 unset PETSC_OPTIONS # the test environment's -output_overwrite (tests/CMakeLists.txt) would hide the refusal
 out=$(mktemp -d)
@@ -42,4 +44,24 @@ ckpt=$(ls "$out/live"/checkpoint_*.h5 | tail -1)
 mpiexec -n 1 "$CLOTHSIM" "${sheet[@]}" -steps 100000000 -output_dir "$out/live" -restart "$ckpt" -steps "$(( 10#$(basename "$ckpt" .h5 | cut -d_ -f2) + 2 ))" > "$out/restart.log" 2>&1 ||
   { cat "$out/restart.log"; fail "-restart after the holder stopped failed"; }
 echo "the lock went with its holder: -restart into the directory ran"
-echo "output directory ownership: 4 checks passed"
+
+# a directory deleted during the run: the state is saved before the run stops. The deletion may also land inside
+# a frame's write (a window of a few per cent of the run's time here, frames every 10 steps of a 33 x 33 sheet);
+# the run then stops with exit 3 naming the file it could not write, without the saved state.
+mpiexec -n 2 "$CLOTHSIM" "${sheet[@]}" -grid 33 -steps 100000000 -output_every 10 -progress_seconds 0 -output_dir "$out/deleted" > "$out/deleted.log" 2>&1 &
+pid=$!
+for _ in $(seq 1 600); do grep -q "^step *20/" "$out/deleted.log" && break; sleep 0.1; done
+rm -rf "$out/deleted"
+wait "$pid"
+status=$?
+pid=""
+[ "$status" -eq 3 ] || { tail "$out/deleted.log"; fail "a run whose directory was deleted exited $status, expected 3"; }
+ckpt=$(sed -n 's/^ERROR: Output series .* is gone (was its directory deleted or moved during the run?): the state at step [0-9]* is saved in \([^;]*\);.*/\1/p' "$out/deleted.log")
+if [ -n "$ckpt" ]; then
+  [ -f "$ckpt" ] || fail "the checkpoint $ckpt named in the message does not exist"
+  echo "deleted during the run: the state was saved in $ckpt"
+else
+  grep -q "^ERROR: Cannot .*$out/deleted/.*No such file or directory" "$out/deleted.log" || { tail "$out/deleted.log"; fail "no message naming the saved state or the file"; }
+  echo "deleted during a frame's write: stopped naming the file ($(grep ^ERROR "$out/deleted.log" | cut -c1-80)...)"
+fi
+echo "output directory ownership: 5 checks passed"
