@@ -269,6 +269,23 @@ static PetscErrorCode OutputWriteXdmf(ClothOutput out)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* A restart appends to the series of its own run only: another run's frames (perhaps of other particles, after
+   -output_overwrite) would mix with its own. A series without run_id (an older clothsim's) is not checked. */
+static PetscErrorCode OutputCheckRun(ClothOutput out, hid_t file, uint64_t run_id)
+{
+  PetscBool has;
+  uint64_t  written;
+
+  PetscFunctionBeginUser;
+  PetscCall(ClothH5AttributeExists(file, "run_id", &has));
+  if (!has || !run_id) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(ClothH5AttributeReadUInt64(file, "run_id", &written));
+  if (written != run_id) PetscCall(ClothH5FileClose(&file));
+  PetscCheck(written == run_id, out->comm, PETSC_ERR_USER_INPUT,
+             "Output series %s was written by another run than the checkpoint's (its frames would mix with this run's): continue into another -output_dir, or move this series away to start a new one there", out->h5path);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 /* Opens the series file: a new one, or with restart_time >= 0 an existing one trimmed to that time. */
 static PetscErrorCode OutputSetUpFile(ClothOutput out, const ClothOutputTopology *topology, PetscReal restart_time)
 {
@@ -279,10 +296,12 @@ static PetscErrorCode OutputSetUpFile(ClothOutput out, const ClothOutputTopology
   PetscCall(ClothFileExists(out->comm, out->h5path, &exists));
   if (restart_time >= 0 && exists) {
     PetscCall(OutputFileOpen(out, &file));
+    PetscCall(OutputCheckRun(out, file, topology->run_id));
     PetscCall(OutputWriteTopology(out, file, topology));
     PetscCall(OutputTrimFrames(out, file, restart_time));
   } else {
     PetscCall(ClothH5FileCreate(out->comm, out->h5path, &file));
+    if (topology->run_id) PetscCall(ClothH5AttributeWriteUInt64(file, "run_id", topology->run_id));
     PetscCall(OutputWriteTopology(out, file, topology));
   }
   PetscCall(ClothH5FileClose(&file));

@@ -4,6 +4,7 @@
    each piece row by row, with PETSc's default contiguous layout and block size 3, so that every rank
    writes one contiguous hyperslab. */
 #pragma once
+#include <stdint.h>
 #include <petscvec.h>
 #include "util.h"
 
@@ -15,11 +16,13 @@ typedef struct {
   PetscInt        nparticles;
   PetscInt        nquads;
   const PetscInt *quads;
+  uint64_t        run_id; /* the run writing the series (root attribute run_id); 0: none, no check */
 } ClothOutputTopology;
 
 /* Opens the series. If restart_time >= 0 the existing series is kept up to and including that time
-   and later frames are dropped (a restarted run then appends with no duplicated or missing times);
-   otherwise any previous series under that name is replaced. Collective. */
+   and later frames are dropped (a restarted run then appends with no duplicated or missing times), unless it
+   was written by another run (its run_id differs from topology->run_id), which is refused; otherwise any
+   previous series under that name is replaced. Collective. */
 PetscErrorCode ClothOutputCreate(MPI_Comm comm, const char dir[], const char name[], const ClothOutputTopology *topology, PetscReal restart_time, ClothOutput *out);
 /* What a frame holds besides the positions. The Vecs are in natural order; the counts are totals over
    all ranks (every rank passes the same values). A run without bodies or without self-collision passes

@@ -342,6 +342,7 @@ static PetscErrorCode ClothRunOpenOutput(ClothRun run)
   topo.nparticles = model->nparticles;
   topo.nquads     = model->nquads;
   topo.quads      = model->quads;
+  topo.run_id     = run->run_id;
   PetscCall(ClothOutputCreate(run->comm, run->output_dir, run->scene->name, &topo, run->restart[0] ? run->time : -1.0, &run->output));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

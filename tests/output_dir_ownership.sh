@@ -2,7 +2,8 @@
 # An output directory belongs to one run (issue 24, item 3):
 # - a new run into a directory that holds another run's results is refused (exit 2) with the way out
 #   (-restart, -output_overwrite, another -output_dir); with -output_overwrite it runs, and its -checkpoint_keep
-#   prunes only its own checkpoints, never the earlier run's (which the old pruning deleted);
+#   prunes only its own checkpoints, never the earlier run's (which the old pruning deleted); continuing the
+#   earlier run from its checkpoint into that directory is then refused, as its frames would mix with the series;
 # - a second run into a directory that a live run holds is refused (exit 2) naming the holder, and the lock goes
 #   with its holder: after that run stops (SIGTERM), -restart into the directory works;
 # - a directory deleted during a run: the run saves its state in a checkpoint (recreating the directory) and
@@ -27,6 +28,11 @@ mpiexec -n 2 "$CLOTHSIM" "${sheet[@]}" -steps 6 -checkpoint_every 3 -checkpoint_
 for step in 000001 000002 000006; do [ -f "$out/a/checkpoint_$step.h5" ] || { ls "$out/a"; fail "checkpoint_$step.h5 is gone"; }; done
 [ ! -f "$out/a/checkpoint_000003.h5" ] || fail "-checkpoint_keep 1 did not prune this run's checkpoint_000003.h5"
 echo "-output_overwrite: ran; pruning kept the earlier run's checkpoints 1, 2 and removed only its own 3"
+mpiexec -n 1 "$CLOTHSIM" "${sheet[@]}" -steps 4 -restart "$out/a/checkpoint_000002.h5" -output_dir "$out/a" > "$out/mixed.log" 2>&1
+status=$?
+[ "$status" -eq 2 ] || { cat "$out/mixed.log"; fail "continuing the first run into the second's series exited $status, expected 2"; }
+grep -q "^ERROR: Output series $out/a/hanging_sheet.h5 was written by another run than the checkpoint's" "$out/mixed.log" || { cat "$out/mixed.log"; fail "no clear refusal of a mixed series"; }
+echo "refused: continuing the first run into the series of the second"
 
 mpiexec -n 1 "$CLOTHSIM" "${sheet[@]}" -steps 100000000 -checkpoint_every 1000 -output_dir "$out/live" > "$out/live.log" 2>&1 &
 pid=$!
@@ -64,4 +70,4 @@ else
   grep -q "^ERROR: Cannot .*$out/deleted/.*No such file or directory" "$out/deleted.log" || { tail "$out/deleted.log"; fail "no message naming the saved state or the file"; }
   echo "deleted during a frame's write: stopped naming the file ($(grep ^ERROR "$out/deleted.log" | cut -c1-80)...)"
 fi
-echo "output directory ownership: 5 checks passed"
+echo "output directory ownership: 6 checks passed"
