@@ -50,7 +50,7 @@ for grid in $grids; do
     echo "== clothsim grid $grid, $ranks rank(s), t_final $t_final: $log"
     # shellcheck disable=SC2086
     mpiexec -n "$ranks" "$build_dir/clothsim" -scene input/hanging_sheet.yaml -grid "$grid" -dt 0.004166666666666667 \
-      -t_final "$t_final" -output_every 0 -progress_seconds 60 -output_dir "$out/run_${grid}_${ranks}" \
+      -t_final "$t_final" -output_every 0 -progress_seconds 60 -output_dir "$out/run_${grid}_${ranks}" -output_overwrite \
       -log_view -memory_view ${EXTRA:-} >"$log" 2>&1
     /usr/bin/python3 jobs/bench_report.py clothsim --log "$log" --grid "$grid" --ranks "$ranks" --tag "$tag" \
       --stream "$out/stream_${stamp}.log" --checkpoint-dir "$out/run_${grid}_${ranks}" --csv "$out/bench.csv" \

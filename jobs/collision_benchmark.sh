@@ -16,7 +16,7 @@ for n in 33 65 129; do
   for search in grid brute_force; do
     log="$out/n${n}_${search}.log"
     mpiexec -n "$ranks" "$build/clothsim" -scene tests/data/mannequin_shoulders.yaml -grid "$n" -steps "$steps" \
-      -collision_search "$search" -output_every 0 -output_dir "$out/n${n}_${search}" -progress_seconds 1000 -log_view > "$log" 2>&1
+      -collision_search "$search" -output_every 0 -output_dir "$out/n${n}_${search}" -output_overwrite -progress_seconds 1000 -log_view > "$log" 2>&1
     stage=$(awk '/^ *2: +Time steps:/ {print $4}' "$log")
     coll=$(awk '$1 == "ClothCollision" {print $4; exit}' "$log")
     awk -v n="$n" -v s="$search" -v st="$stage" -v c="$coll" -v k="$steps" \

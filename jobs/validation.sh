@@ -96,7 +96,7 @@ run() { # run NAME ARGS...: one clothsim run, its log in $out/NAME.log
   local name=$1
   shift
   echo "run $name"
-  mpiexec -n 1 --bind-to none "$clothsim" "$@" -output_every 0 "${solver[@]}" -progress_seconds 600 > "$out/$name.log" 2>&1 || { tail -20 "$out/$name.log"; exit 1; }
+  mpiexec -n 1 --bind-to none "$clothsim" "$@" -output_every 0 "${solver[@]}" -progress_seconds 600 -output_overwrite > "$out/$name.log" 2>&1 || { tail -20 "$out/$name.log"; exit 1; }
 }
 
 # 1. Cantilever of every preset, the published fabrics' too: 9 overhangs 1.2-5 cm per fabric and direction (they

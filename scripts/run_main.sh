@@ -5,11 +5,13 @@
 #   bash scripts/run_main.sh         (BUILD_DIR=... builds and runs from another build directory)
 set -euo pipefail
 
-# The main job: the dress assembled on the mannequin (input/dress.yaml) on 2 ranks, about 80 s on two
+# The main job: the dress assembled on the mannequin (input/dress.yaml) on 2 ranks, about 35 s on two
 # idle cores. Switch the scene (and options) here; results go to output/NAME (NAME from the scene's
 # "name:") or -output_dir. For a garment (a scene with seams) the run writes quality.json, and this
-# script completes it and renders front, side and back views beside the XDMF.
-MAIN_JOB=(mpiexec -n 2 build/clothsim -scene input/dress.yaml -cloth_stiffness gauss_newton)
+# script completes it and renders front, side and back views beside the XDMF. -output_overwrite: each
+# run of this script replaces the previous results (clothsim refuses that otherwise). -cloth_stiffness
+# gauss_newton: the closed-form element stiffness, 2.1x faster here (docs/performance.md).
+MAIN_JOB=(mpiexec -n 2 build/clothsim -scene input/dress.yaml -output_overwrite -cloth_stiffness gauss_newton)
 
 cd "$(dirname "$0")/.."
 bash scripts/install_deps.sh

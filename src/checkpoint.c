@@ -8,10 +8,12 @@
                 dt_start_time (float64), integrator, scene_name (string), scene_fingerprint,
                 nparticles, nranks (int64, the ranks that wrote it), code_version, git_revision
                 (string), checksum_method (string), info_checksum (uint64, see
-                CheckpointInfoChecksum), complete (int64 = 1, written last: the end marker). */
+                CheckpointInfoChecksum), run_id (uint64, optional: the run that wrote it), complete
+                (int64 = 1, written last: the end marker). */
 #define _POSIX_C_SOURCE 200809L
 #include <dirent.h>
 #include <errno.h>
+#include <inttypes.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -35,7 +37,7 @@ static const char *const CheckpointAttributes[] = {"format_version", "step", "ti
 /* Why a checkpoint is refused; code 0 when it is accepted. */
 typedef struct {
   PetscErrorCode code;
-  char           reason[512];
+  char           reason[1024];
 } CheckpointRefusal;
 
 static uint64_t SplitMix64(uint64_t x)
@@ -149,6 +151,7 @@ static PetscErrorCode CheckpointWriteAttributes(MPI_Comm comm, hid_t state, cons
   PetscCall(ClothH5AttributeWriteString(state, "git_revision", CLOTHSIM_GIT_REVISION));
   PetscCall(ClothH5AttributeWriteString(state, "checksum_method", CHECKPOINT_CHECKSUM_METHOD));
   PetscCall(ClothH5AttributeWriteUInt64(state, "info_checksum", CheckpointInfoChecksum(info, nparticles)));
+  if (info->run_id) PetscCall(ClothH5AttributeWriteUInt64(state, "run_id", info->run_id));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -207,11 +210,30 @@ static int CompareInt64Descending(const void *a, const void *b)
   return (x < y) - (x > y);
 }
 
+/* Rank 0 only: whether the checkpoint at path was written by run run_id (its attribute /state/run_id), read
+   serially with HDF5's errors silenced; a file without it (another run's, or an older clothsim's) is not. */
+static PetscBool CheckpointOfRun(const char path[], uint64_t run_id)
+{
+  H5E_auto2_t print_errors;
+  void       *print_errors_data;
+  uint64_t    id   = 0;
+  hid_t       file = -1, attr = -1;
+
+  if (H5Eget_auto2(H5E_DEFAULT, &print_errors, &print_errors_data) < 0 || H5Eset_auto2(H5E_DEFAULT, NULL, NULL) < 0) return PETSC_FALSE;
+  if ((file = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT)) >= 0 && H5Aexists_by_name(file, "state", "run_id", H5P_DEFAULT) > 0 && (attr = H5Aopen_by_name(file, "state", "run_id", H5P_DEFAULT, H5P_DEFAULT)) >= 0 &&
+      H5Aread(attr, H5T_NATIVE_UINT64, &id) < 0)
+    id = 0;
+  if (attr >= 0) H5Aclose(attr);
+  if (file >= 0) H5Fclose(file);
+  H5Eset_auto2(H5E_DEFAULT, print_errors, print_errors_data);
+  return run_id && id == run_id ? PETSC_TRUE : PETSC_FALSE;
+}
+
 /* Rank 0 only, hence plain C that reports an errno value instead of raising a PETSc error (which would
-   leave the other ranks waiting): deletes checkpoint_*.h5 in dir with step <= newest beyond the
-   `keep` latest of them. Checkpoints after `newest` (left by an earlier run that went further) are
-   not this run's to delete. */
-static int CheckpointRemoveOldLocal(const char dir[], PetscInt64 newest, PetscInt keep)
+   leave the other ranks waiting): deletes checkpoint_*.h5 in dir of run run_id with step <= newest beyond the
+   `keep` latest of them. Checkpoints after `newest` (left by an earlier run that went further) and those of
+   other runs sharing the directory are not this run's to delete. */
+static int CheckpointRemoveOldLocal(const char dir[], PetscInt64 newest, PetscInt keep, uint64_t run_id)
 {
   DIR           *d;
   struct dirent *entry;
@@ -221,7 +243,11 @@ static int CheckpointRemoveOldLocal(const char dir[], PetscInt64 newest, PetscIn
 
   if (!(d = opendir(dir))) return errno;
   while (!err && (entry = readdir(d))) {
+    char path[CLOTH_PATH_LEN];
+
     if (!CheckpointNameStep(entry->d_name, &step) || step > newest) continue;
+    snprintf(path, sizeof(path), "%s/%s", dir, entry->d_name);
+    if (!CheckpointOfRun(path, run_id)) continue;
     if (n == cap) {
       PetscInt64 *grown = realloc(steps, (cap = 2 * cap + 16) * sizeof(*steps));
 
@@ -244,16 +270,33 @@ static int CheckpointRemoveOldLocal(const char dir[], PetscInt64 newest, PetscIn
   return err;
 }
 
-static PetscErrorCode CheckpointRemoveOld(MPI_Comm comm, const char dir[], PetscInt64 newest, PetscInt keep)
+static PetscErrorCode CheckpointRemoveOld(MPI_Comm comm, const char dir[], PetscInt64 newest, PetscInt keep, uint64_t run_id)
 {
   PetscMPIInt rank;
   int         err = 0;
 
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  if (rank == 0) err = CheckpointRemoveOldLocal(dir, newest, keep);
+  if (rank == 0) err = CheckpointRemoveOldLocal(dir, newest, keep, run_id);
   PetscCallMPI(MPI_Bcast(&err, 1, MPI_INT, 0, comm));
   PetscCheck(!err, comm, PETSC_ERR_FILE_WRITE, "Cannot remove old checkpoints in %s: %s", dir, strerror(err));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Room for the checkpoint's datasets (8 bytes a value) plus 1 MB of metadata, checked before the file is created. */
+static PetscErrorCode CheckpointCheckSpace(MPI_Comm comm, const char dir[], const char tmp[], PetscInt nfields, const ClothCheckpointField fields[])
+{
+  double   bytes = 1e6;
+  PetscInt n;
+  char     what[CLOTH_PATH_LEN + 32];
+
+  PetscFunctionBeginUser;
+  for (PetscInt f = 0; f < nfields; f++) {
+    PetscCall(VecGetSize(fields[f].vec, &n));
+    bytes += 8.0 * (double)n;
+  }
+  PetscCall(PetscSNPrintf(what, sizeof(what), "checkpoint %s", tmp));
+  PetscCall(ClothFileCheckSpace(comm, dir, bytes, what));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -267,12 +310,39 @@ PetscErrorCode ClothCheckpointWrite(MPI_Comm comm, const char dir[], const Cloth
   PetscCall(PetscSNPrintf(path, sizeof(path), "%s/checkpoint_%06" PetscInt64_FMT ".h5", dir, info->step));
   PetscCall(PetscSNPrintf(tmp, sizeof(tmp), "%s/.checkpoint_%06" PetscInt64_FMT ".h5.tmp", dir, info->step));
   PetscCall(ClothFileMakeDirectory(comm, dir));
+  PetscCall(CheckpointCheckSpace(comm, dir, tmp, nfields, fields));
   PetscCall(ClothH5FileCreate(comm, tmp, &file));
   PetscCall(CheckpointWriteFile(comm, file, info, nfields, fields));
   PetscCall(ClothH5FileClose(&file));
   PetscCall(ClothFileRename(comm, tmp, path));
-  if (keep > 0) PetscCall(CheckpointRemoveOld(comm, dir, info->step, keep));
+  if (keep > 0) PetscCall(CheckpointRemoveOld(comm, dir, info->step, keep, info->run_id));
   if (path_out) PetscCall(PetscStrncpy(path_out, path, path_len));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothCheckpointFindNewest(MPI_Comm comm, const char dir[], char path[], size_t len, PetscInt *count)
+{
+  PetscMPIInt rank;
+  PetscInt64  found[2] = {-1, 0}; /* newest step, count */
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  if (rank == 0) {
+    DIR *d = opendir(dir);
+
+    for (struct dirent *entry; d && (entry = readdir(d));) {
+      PetscInt64 step;
+
+      if (!CheckpointNameStep(entry->d_name, &step)) continue;
+      found[0] = PetscMax(found[0], step);
+      found[1]++;
+    }
+    if (d) closedir(d);
+  }
+  PetscCallMPI(MPI_Bcast(found, 2, MPIU_INT64, 0, comm));
+  path[0] = 0;
+  if (found[1]) PetscCall(PetscSNPrintf(path, len, "%s/checkpoint_%06" PetscInt64_FMT ".h5", dir, found[0]));
+  *count = (PetscInt)found[1];
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -319,6 +389,9 @@ static PetscErrorCode CheckpointReadInfo(hid_t state, ClothCheckpointInfo *info,
   PetscCall(ClothH5AttributeReadInt64(state, "scene_fingerprint", &info->scene_fingerprint));
   PetscCall(ClothH5AttributeReadInt64(state, "nparticles", &info->nparticles));
   PetscCall(ClothH5AttributeReadUInt64(state, "info_checksum", &stored));
+  PetscCall(ClothH5AttributeExists(state, "run_id", &exists));
+  info->run_id = 0;
+  if (exists) PetscCall(ClothH5AttributeReadUInt64(state, "run_id", &info->run_id));
   if (stored != CheckpointInfoChecksum(info, info->nparticles))
     PetscCall(CheckpointRefuse(refusal, PETSC_ERR_FILE_READ, "is corrupt: its attributes step, time, dt, dt_start_step, dt_start_time, integrator, scene_fingerprint and nparticles do not match their checksum info_checksum"));
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -327,12 +400,21 @@ static PetscErrorCode CheckpointReadInfo(hid_t state, ClothCheckpointInfo *info,
 /* Checks that the checkpoint fits this run: its particle count and its scene. */
 static PetscErrorCode CheckpointCheckScene(const ClothCheckpointInfo *info, const ClothCheckpointInfo *expect, PetscInt64 nparticles, CheckpointRefusal *refusal)
 {
-  char reason[512];
+  char        reason[sizeof(((CheckpointRefusal *)0)->reason)];
+  const char *differs;
+  PetscBool   same_name;
 
   PetscFunctionBeginUser;
   if (expect && info->scene_fingerprint != expect->scene_fingerprint) {
-    PetscCall(PetscSNPrintf(reason, sizeof(reason), "was written for scene '%s' (fingerprint %" PetscInt64_FMT "), not this scene '%s' (fingerprint %" PetscInt64_FMT ")", info->scene_name, info->scene_fingerprint, expect->scene_name,
-                            expect->scene_fingerprint));
+    PetscCall(PetscStrcmp(info->scene_name, expect->scene_name, &same_name));
+    if (info->nparticles != expect->nparticles)
+      differs = same_name ? "other grids (grid: in the scene, or -grid): a restart needs the same particles" : "another scene: a restart needs the same particles";
+    else if (!same_name)
+      differs = "another scene of as many particles; if it is this one renamed on purpose, add -restart_any_scene to continue with it";
+    else
+      differs = "the same name and particle count, but the scene file was edited (a value, or only a comment) or -grid changed; if on purpose, add -restart_any_scene to continue with this scene";
+    PetscCall(PetscSNPrintf(reason, sizeof(reason), "was written for scene '%s' (fingerprint %016" PRIx64 ", %" PetscInt64_FMT " particles), not this scene '%s' (fingerprint %016" PRIx64 ", %" PetscInt64_FMT " particles): %s", info->scene_name,
+                            (uint64_t)info->scene_fingerprint, info->nparticles, expect->scene_name, (uint64_t)expect->scene_fingerprint, expect->nparticles, differs));
     PetscCall(CheckpointRefuse(refusal, PETSC_ERR_FILE_UNEXPECTED, reason));
   } else if (info->nparticles != nparticles) {
     PetscCall(PetscSNPrintf(reason, sizeof(reason), "holds %" PetscInt64_FMT " particles, the scene has %" PetscInt64_FMT, info->nparticles, nparticles));
@@ -440,15 +522,14 @@ static PetscErrorCode CheckpointReadFileGuarded(MPI_Comm comm, hid_t *file, cons
 
 PetscErrorCode ClothCheckpointRead(MPI_Comm comm, const char path[], const ClothCheckpointInfo *expect, ClothCheckpointInfo *info, PetscInt nfields, ClothCheckpointField fields[])
 {
-  PetscBool           exists = PETSC_FALSE, opened = PETSC_FALSE;
+  PetscBool           opened = PETSC_FALSE;
   hid_t               file;
   ClothCheckpointInfo found;
   CheckpointRefusal   refusal = {0, ""};
 
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(&found, sizeof(found)));
-  PetscCall(ClothFileExists(comm, path, &exists));
-  PetscCheck(exists, comm, PETSC_ERR_FILE_OPEN, "Checkpoint %s does not exist", path);
+  PetscCall(ClothFileCheckReadable(comm, "Checkpoint", path, "one of the checkpoint_NNNNNN.h5 in it, the newest for the latest state"));
   PetscCall(ClothH5FileOpen(comm, path, H5F_ACC_RDONLY, &file, &opened));
   PetscCheck(opened, comm, PETSC_ERR_FILE_READ, "Checkpoint %s cannot be opened as an HDF5 file: it is truncated or not a checkpoint", path);
   PetscCall(CheckpointReadFileGuarded(comm, &file, expect, &found, nfields, fields, &refusal));

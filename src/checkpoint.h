@@ -5,6 +5,7 @@
    integrator's last velocity change, /state/implicit_dv); attributes on /state: step (int64), time
    (float64), and the rest of ClothCheckpointInfo. */
 #pragma once
+#include <stdint.h>
 #include <petscvec.h>
 #include "util.h"
 
@@ -18,6 +19,7 @@ typedef struct {
   PetscInt64 scene_fingerprint;          /* Scene.fingerprint */
   char       scene_name[CLOTH_NAME_LEN];
   PetscInt64 nparticles;
+  uint64_t   run_id; /* the run that wrote it (a restart continues its run); 0: none. Pruning removes only checkpoints of the writer's run */
 } ClothCheckpointInfo;
 
 /* One per-particle dataset of a checkpoint: /state/<name>, shape (N, bs) float64 in natural order,
@@ -30,10 +32,13 @@ typedef struct {
 } ClothCheckpointField;
 
 /* Writes DIR/checkpoint_NNNNNN.h5 (NNNNNN = info->step, six digits) through a temporary name, then
-   renames it; keeps only the newest `keep` checkpoints in DIR when keep > 0. fields must include
+   renames it; keeps only the newest `keep` checkpoints of this run (info->run_id) in DIR when keep > 0, never
+   touching another run's. fields must include
    "position" and "velocity"; each dataset carries a checksum of its bits. Returns the final path in
    path_out (may be NULL). Collective. */
 PetscErrorCode ClothCheckpointWrite(MPI_Comm comm, const char dir[], const ClothCheckpointInfo *info, PetscInt nfields, const ClothCheckpointField fields[], PetscInt keep, char path_out[], size_t path_len);
+/* The newest checkpoint_NNNNNN.h5 in dir (path "" when none) and how many there are. Collective. */
+PetscErrorCode ClothCheckpointFindNewest(MPI_Comm comm, const char dir[], char path[], size_t len, PetscInt *count);
 /* Reads a checkpoint into the fields' Vecs (natural order, already created with the right size).
    Refuses, with one clear message naming the file, a file that is missing, truncated or corrupt
    (unreadable, or a dataset whose checksum differs), has no end marker, lacks a required dataset,

@@ -1,6 +1,7 @@
 /* Cloth: the distributed fabric (see cloth.h). */
 #include "cloth_impl.h"
 #include "log.h"
+#include "options.h"
 
 PetscErrorCode ClothCreate(MPI_Comm comm, Scene scene, Cloth *cloth)
 {
@@ -36,8 +37,8 @@ PetscErrorCode ClothSetFromOptions(Cloth cloth)
                              "Stiffness of the angle and twist elements in the implicit system: projected (the exact Hessian projected by an eigen-decomposition per element), gauss_newton (closed form, positive semidefinite, 7.9x less assembly), exact (indefinite: tests only)",
                              "ClothAssembleImplicitSystem", ClothStiffnessTypes, (PetscEnum)cloth->stiffness, (PetscEnum *)&cloth->stiffness, NULL));
   PetscOptionsEnd();
-  PetscCheck(cloth->perturbation >= 0, cloth->comm, PETSC_ERR_USER_INPUT, "-cloth_perturbation must not be negative, got %g", (double)cloth->perturbation);
-  PetscCheck(cloth->perturbation_wavelength >= 0, cloth->comm, PETSC_ERR_USER_INPUT, "-cloth_perturbation_wavelength must not be negative, got %g", (double)cloth->perturbation_wavelength);
+  PetscCall(ClothOptionsCheckReal(cloth->comm, "-cloth_perturbation", cloth->perturbation, 0, PETSC_FALSE, PETSC_MAX_REAL, "m"));
+  PetscCall(ClothOptionsCheckReal(cloth->comm, "-cloth_perturbation_wavelength", cloth->perturbation_wavelength, 0, PETSC_FALSE, PETSC_MAX_REAL, "m"));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -253,7 +254,7 @@ PetscErrorCode ClothSetUp(Cloth cloth)
   else if (cloth->perturbation > 0)
     PetscCall(PetscPrintf(cloth->comm, "Start imperfections: free particles moved along the fabric's normal by up to %g m (seed %" PetscInt_FMT ")\n", (double)cloth->perturbation, cloth->perturbation_seed));
   cloth->nglobal = cloth->model->nparticles;
-  PetscCheck(cloth->nglobal >= size, cloth->comm, PETSC_ERR_ARG_OUTOFRANGE, "%" PetscInt_FMT " particles cannot be shared by %d ranks", cloth->nglobal, size);
+  PetscCheck(cloth->nglobal >= size, cloth->comm, PETSC_ERR_USER_INPUT, "%" PetscInt_FMT " particles cannot be shared by %d ranks: expected at most %" PetscInt_FMT " ranks (mpiexec -n) or a finer grid", cloth->nglobal, size, cloth->nglobal);
   PetscCall(ClothModelGetAdjacency(cloth->model, &cloth->xadj, &cloth->adjncy));
   PetscCall(PetscMalloc1(cloth->nglobal, &cloth->part));
   PetscCall(PetscLogEventBegin(ClothLog.partition, 0, 0, 0, 0));

@@ -4,6 +4,7 @@
 #include "geometry.h"
 #include "log.h"
 #include "vec3.h"
+#include "options.h"
 
 const char *const ClothCollisionSearches[] = {"grid", "brute_force", "ClothCollisionSearch", "CLOTH_COLLISION_SEARCH_", NULL};
 
@@ -527,8 +528,9 @@ PetscErrorCode ClothCollisionSetFromOptions(ClothCollision col)
   PetscCall(PetscOptionsBool("-collision_verify", "Search every segment with the grid and brute force too; error if they differ", "ClothCollisionSetVerify", col->verify, &col->verify, NULL));
   PetscCall(PetscOptionsBool("-collision_view", "Print the bodies and the collision set-up", "ClothCollisionView", col->view, &col->view, NULL));
   PetscOptionsEnd();
-  PetscCheck(col->cell_size >= 0 && col->margin > 0, col->comm, PETSC_ERR_USER_INPUT, "-collision_cell_size must not be negative and -collision_grid_margin must be positive (corrected particles may move slightly beyond their segment), got %g and %g",
-             (double)col->cell_size, (double)col->margin);
+  PetscCall(ClothOptionsCheckReal(col->comm, "-collision_cell_size", col->cell_size, 0, PETSC_FALSE, PETSC_MAX_REAL, "m"));
+  /* positive: corrected particles may move slightly beyond their segment */
+  PetscCall(ClothOptionsCheckReal(col->comm, "-collision_grid_margin", col->margin, 0, PETSC_TRUE, PETSC_MAX_REAL, "m"));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -2,9 +2,17 @@
 #define _POSIX_C_SOURCE 200809L
 #include <errno.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+#include <fcntl.h>
+#include <time.h>
+#include <unistd.h>
 #include <sys/stat.h>
+#include <sys/statvfs.h>
 #include "fileutil.h"
+
+#define FILE_LOCK_NAME ".clothsim.lock"
+#define FILE_LOCK_TEXT_LEN 512
 
 /* mkdir -p on the calling rank; returns 0 or an errno value. */
 static int MakeDirectoryLocal(const char dir[])
@@ -58,6 +66,140 @@ PetscErrorCode ClothFileExists(MPI_Comm comm, const char path[], PetscBool *exis
   }
   PetscCallMPI(MPI_Bcast(&found, 1, MPI_INT, 0, comm));
   *exists = found ? PETSC_TRUE : PETSC_FALSE;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothFileCheckReadable(MPI_Comm comm, const char what[], const char path[], const char in_directory[])
+{
+  PetscMPIInt rank;
+  int         err = 0; /* errno, or -1: a directory, -2: not a regular file */
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  if (rank == 0) {
+    struct stat st;
+    FILE       *fp;
+
+    if (stat(path, &st) != 0)
+      err = errno;
+    else if (S_ISDIR(st.st_mode))
+      err = -1;
+    else if (!S_ISREG(st.st_mode))
+      err = -2;
+    else if (!(fp = fopen(path, "rb")))
+      err = errno;
+    else
+      fclose(fp);
+  }
+  PetscCallMPI(MPI_Bcast(&err, 1, MPI_INT, 0, comm));
+  PetscCheck(err != -1, comm, PETSC_ERR_FILE_OPEN, "%s %s is a directory: expected a file (%s)", what, path, in_directory);
+  PetscCheck(err != -2, comm, PETSC_ERR_FILE_OPEN, "%s %s is not a regular file: expected a file (%s)", what, path, in_directory);
+  PetscCheck(err != ENOENT, comm, PETSC_ERR_FILE_OPEN, "%s %s does not exist", what, path);
+  PetscCheck(!err, comm, PETSC_ERR_FILE_OPEN, "%s %s cannot be read: %s", what, path, strerror(err));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Rank 0 only, plain C: opens and locks dir/.clothsim.lock; returns 0 and the locked fd, or EAGAIN with the
+   holder's text in text (another live run), or another errno (ENOLCK and the like: no locks here). */
+static int LockDirectoryLocal(const char dir[], const char holder[], int *fd, char text[], size_t len)
+{
+  const size_t path_len  = strlen(dir) + sizeof(FILE_LOCK_NAME) + 1;
+  char        *path      = malloc(path_len);
+  struct flock lock      = {.l_type = F_WRLCK, .l_whence = SEEK_SET, .l_start = 0, .l_len = 0};
+  char         host[256] = "unknown", started[64] = "";
+  time_t       now = time(NULL);
+  int          err = 0;
+
+  *fd = -1;
+  if (!path) return ENOMEM;
+  snprintf(path, path_len, "%s/%s", dir, FILE_LOCK_NAME);
+  if ((*fd = open(path, O_RDWR | O_CREAT | O_CLOEXEC, 0644)) < 0)
+    err = errno;
+  else if (fcntl(*fd, F_SETLK, &lock) != 0) {
+    ssize_t got;
+
+    err                     = (errno == EACCES || errno == EAGAIN) ? EAGAIN : errno;
+    got                     = pread(*fd, text, len - 1, 0);
+    text[got > 0 ? got : 0] = 0;
+    if (got > 0 && text[got - 1] == '\n') text[got - 1] = 0;
+    close(*fd);
+    *fd = -1;
+  } else {
+    gethostname(host, sizeof(host) - 1);
+    strftime(started, sizeof(started), "%Y-%m-%d %H:%M:%S", localtime(&now));
+    snprintf(text, len, "%s, pid %ld on host %s, started %s", holder, (long)getpid(), host, started);
+    /* a failed write is ignored: the lock holds all the same, the text is only for people */
+    if (ftruncate(*fd, 0) == 0 && pwrite(*fd, text, strlen(text), 0) >= 0 && pwrite(*fd, "\n", 1, (off_t)strlen(text)) >= 0) err = 0;
+  }
+  free(path);
+  return err;
+}
+
+PetscErrorCode ClothFileLockDirectory(MPI_Comm comm, const char dir[], const char holder[], int *fd)
+{
+  PetscMPIInt rank;
+  int         err                      = 0;
+  char        text[FILE_LOCK_TEXT_LEN] = "";
+
+  PetscFunctionBeginUser;
+  *fd = -1;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  if (rank == 0) err = LockDirectoryLocal(dir, holder, fd, text, sizeof(text));
+  PetscCallMPI(MPI_Bcast(&err, 1, MPI_INT, 0, comm));
+  PetscCallMPI(MPI_Bcast(text, (PetscMPIInt)sizeof(text), MPI_CHAR, 0, comm));
+  PetscCheck(err != EAGAIN, comm, PETSC_ERR_USER_INPUT, "output directory %s is in use by another run (%s; lock %s/%s): wait for it to end, or choose another -output_dir", dir, text[0] ? text : "holder unknown", dir, FILE_LOCK_NAME);
+  PetscCheck(err != EACCES && err != EROFS && err != ENOENT && err != ENOTDIR && err != ENOSPC, comm, PETSC_ERR_FILE_WRITE, "output directory %s: cannot create the lock file %s in it: %s", dir, FILE_LOCK_NAME, strerror(err));
+  if (err) PetscCall(PetscFPrintf(comm, PETSC_STDERR, "WARNING: output directory %s cannot be locked (%s): nothing stops a second run from writing into it at the same time\n", dir, strerror(err)));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothFileUnlockDirectory(int *fd)
+{
+  PetscFunctionBeginUser;
+  if (*fd >= 0) {
+    if (ftruncate(*fd, 0) != 0) { /* ignored: an unheld lock file's text is harmless */
+    }
+    close(*fd); /* releases the lock */
+  }
+  *fd = -1;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothFileCommitText(MPI_Comm comm, FILE *fp, const char tmp[], const char path[])
+{
+  PetscMPIInt rank;
+  int         err = 0;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  if (rank == 0) {
+    errno = 0;
+    if (fflush(fp) != 0 || ferror(fp)) err = errno ? errno : EIO;
+    if (!err && fsync(fileno(fp)) != 0) err = errno;
+    if (fclose(fp) != 0 && !err) err = errno;
+    if (err) remove(tmp);
+  }
+  PetscCallMPI(MPI_Bcast(&err, 1, MPI_INT, 0, comm));
+  PetscCheck(!err, comm, PETSC_ERR_FILE_WRITE, "Cannot write %s: %s; %s is left as it was", tmp, strerror(err), path);
+  PetscCall(ClothFileRename(comm, tmp, path));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothFileCheckSpace(MPI_Comm comm, const char dir[], double bytes, const char what[])
+{
+  PetscMPIInt rank;
+  double      avail = -1; /* -1: unknown (statvfs failed): the write goes ahead */
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  if (rank == 0) {
+    struct statvfs fs;
+
+    if (statvfs(dir, &fs) == 0) avail = (double)fs.f_bavail * (double)fs.f_frsize;
+  }
+  PetscCallMPI(MPI_Bcast(&avail, 1, MPI_DOUBLE, 0, comm));
+  PetscCheck(avail < 0 || avail >= bytes, comm, PETSC_ERR_FILE_WRITE, "Cannot write %s: it needs about %.3g MB, the file system of %s has %.3g MB free (%s); the files already written are left as they were", what, bytes / 1e6, dir, avail / 1e6,
+             strerror(ENOSPC));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -10,6 +10,11 @@
 #include <petscvec.h>
 #include "util.h"
 
+/* Errors, naming the path, when it is longer than the MPI-IO in use can open: Open MPI 4's default component,
+   ompio, aborts the whole run ("buffer overflow detected") on a file name of more than 244 characters, so the
+   check is made before opening and, by the run, before its first step. Open MPI's romio321 component
+   (OMPI_MCA_io=romio321) has no such limit; with it, or another MPI, this checks nothing. Collective. */
+PetscErrorCode ClothH5CheckPathLength(MPI_Comm comm, const char path[]);
 /* Creates (truncating) an HDF5 file for parallel access. */
 PetscErrorCode ClothH5FileCreate(MPI_Comm comm, const char path[], hid_t *file);
 /* Opens an existing file (flags: H5F_ACC_RDONLY or H5F_ACC_RDWR) without printing HDF5's error stack.

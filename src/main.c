@@ -3,20 +3,26 @@
 #include "util.h"
 #include "scene.h"
 #include "run.h"
+#include "errors.h"
 
 static const char help[] = "clothsim: woven fabric as a particle system (MPI + PETSc).\n"
                            "Usage: mpiexec -n P clothsim -scene input/NAME.yaml [options]\n"
                            "Run-level options override the scene's run: block; PETSc's -ksp_*, -pc_*, -log_view pass through.\n"
                            "Options that nothing used (misspelled, or meant for another integrator) are listed at the end of the run.\n";
 
+/* The scene, and how errors end the run: a user error (bad input, a file that cannot be read or written, a
+   diverged run) prints its message alone with a dedicated exit status (errors.h), unless -debug_errors asks
+   for PETSc's traceback. */
 static PetscErrorCode GetScenePath(char path[], size_t size)
 {
-  PetscBool has_scene = PETSC_FALSE;
+  PetscBool has_scene = PETSC_FALSE, debug_errors = PETSC_FALSE;
 
   PetscFunctionBeginUser;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "clothsim", "main");
   PetscCall(PetscOptionsString("-scene", "Scene file (YAML) to simulate", "SceneCreateFromFile", path, path, size, &has_scene));
+  PetscCall(PetscOptionsBool("-debug_errors", "Report user errors (bad input, files, divergence) with PETSc's full traceback instead of one message", "ClothErrorHandlerPush", debug_errors, &debug_errors, NULL));
   PetscOptionsEnd();
+  if (!debug_errors) PetscCall(ClothErrorHandlerPush());
   PetscCheck(has_scene, PETSC_COMM_WORLD, PETSC_ERR_USER_INPUT, "No scene given: run as clothsim -scene input/NAME.yaml (see -help)");
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -9,6 +9,11 @@
 #include "mesh_obj.h"
 
 #define MESH_OBJ_LINE_LEN 4096
+/* Largest coordinate accepted, in file units: a million units is 1000 km in metres, 1 km in millimetres; beyond
+   it (1e300) the collision grid and the distances overflow. */
+#define MESH_OBJ_MAX_COORDINATE 1e6
+/* A triangle whose area is below this fraction of its longest edge squared is degenerate (zero area). */
+#define MESH_OBJ_DEGENERATE_AREA 1e-12
 #define MESH_OBJ_MESSAGE_LEN (CLOTH_PATH_LEN + 512)
 
 /* Growing arrays of the parse. */
@@ -44,7 +49,15 @@ static PetscErrorCode BuilderAddTriangle(MeshObjBuilder *b, PetscInt v0, PetscIn
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* 'v x y z [w]': *bad set to a message when the numbers are missing or malformed. */
+/* Whether the rest of a line after its statement holds only blanks. */
+static PetscBool IsBlank(const char *rest)
+{
+  while (*rest && isspace((unsigned char)*rest)) rest++;
+  return *rest ? PETSC_FALSE : PETSC_TRUE;
+}
+
+/* 'v x y z [w]': *bad set to a message when the numbers are missing, malformed, out of range or followed by
+   anything else. */
 static PetscErrorCode ParseVertex(MeshObjBuilder *b, char *rest, char bad[], size_t len)
 {
   PetscReal x[3];
@@ -55,13 +68,41 @@ static PetscErrorCode ParseVertex(MeshObjBuilder *b, char *rest, char bad[], siz
     char *start = end;
     errno       = 0;
     x[c]        = (PetscReal)strtod(start, &end);
-    if (end == start || errno == ERANGE || PetscIsInfOrNanReal(x[c])) {
-      PetscCall(PetscSNPrintf(bad, len, "expected a vertex 'v x y z' with 3 finite numbers"));
+    if (end == start || errno == ERANGE || PetscIsInfOrNanReal(x[c]) || PetscAbsReal(x[c]) > MESH_OBJ_MAX_COORDINATE) {
+      PetscCall(PetscSNPrintf(bad, len, "expected a vertex 'v x y z' with 3 finite numbers of magnitude at most 1e6"));
+      PetscFunctionReturn(PETSC_SUCCESS);
+    }
+  }
+  if (!IsBlank(end)) { /* the optional weight w, then nothing */
+    char *start = end;
+
+    (void)strtod(start, &end);
+    if (end == start || !IsBlank(end)) {
+      PetscCall(PetscSNPrintf(bad, len, "expected a vertex 'v x y z' with 3 finite numbers of magnitude at most 1e6 (and an optional weight), got more after them"));
       PetscFunctionReturn(PETSC_SUCCESS);
     }
   }
   PetscCall(BuilderAddVertex(b, x));
   PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Twice the area of triangle (v0, v1, v2) over its longest edge squared: 0 for a degenerate triangle (repeated
+   or collinear corners), about 0.87 for an equilateral one. */
+static PetscReal TriangleShape(const PetscReal coords[], PetscInt v0, PetscInt v1, PetscInt v2)
+{
+  const PetscReal *a = &coords[3 * v0], *p = &coords[3 * v1], *q = &coords[3 * v2];
+  PetscReal        e1[3], e2[3], e3[3], n[3], longest;
+
+  for (PetscInt c = 0; c < 3; c++) {
+    e1[c] = p[c] - a[c];
+    e2[c] = q[c] - a[c];
+    e3[c] = q[c] - p[c];
+  }
+  n[0]    = e1[1] * e2[2] - e1[2] * e2[1];
+  n[1]    = e1[2] * e2[0] - e1[0] * e2[2];
+  n[2]    = e1[0] * e2[1] - e1[1] * e2[0];
+  longest = PetscMax(PetscMax(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2], e2[0] * e2[0] + e2[1] * e2[1] + e2[2] * e2[2]), e3[0] * e3[0] + e3[1] * e3[1] + e3[2] * e3[2]);
+  return longest > 0 ? PetscSqrtReal(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]) / longest : 0;
 }
 
 /* One face corner 'v', 'v/vt', 'v//vn' or 'v/vt/vn': the zero-based vertex index, or a message in bad. */
@@ -100,8 +141,13 @@ static PetscErrorCode ParseFace(MeshObjBuilder *b, char *rest, char bad[], size_
     if (bad[0]) PetscFunctionReturn(PETSC_SUCCESS);
     if (ncorners == 0)
       first = v;
-    else if (ncorners >= 2)
+    else if (ncorners >= 2) {
+      if (TriangleShape(b->coords, first, previous, v) <= MESH_OBJ_DEGENERATE_AREA) {
+        PetscCall(PetscSNPrintf(bad, len, "expected a face of nonzero area, got corners %" PetscInt_FMT ", %" PetscInt_FMT ", %" PetscInt_FMT " (1-based vertices) that are repeated or on one line", first + 1, previous + 1, v + 1));
+        PetscFunctionReturn(PETSC_SUCCESS);
+      }
       PetscCall(BuilderAddTriangle(b, first, previous, v));
+    }
     previous = v;
     ncorners++;
   }

@@ -100,6 +100,14 @@ static PetscErrorCode OutputGroupOpenOrCreate(hid_t loc, const char name[], hid_
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+PetscErrorCode ClothOutputSeriesExists(ClothOutput out, PetscBool *exists, const char **path)
+{
+  PetscFunctionBeginUser;
+  PetscCall(ClothFileExists(out->comm, out->h5path, exists));
+  if (path) *path = out->h5path;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 static PetscErrorCode OutputFileOpen(ClothOutput out, hid_t *file)
 {
   PetscBool opened = PETSC_FALSE;
@@ -257,8 +265,24 @@ static PetscErrorCode OutputWriteXdmf(ClothOutput out)
   PetscCall(PetscFPrintf(out->comm, fp, "    <Grid Name=\"%s\" GridType=\"Collection\" CollectionType=\"Temporal\">\n", out->name));
   for (PetscInt i = 0; i < out->nframes; i++) PetscCall(OutputXdmfFrame(out, fp, i));
   PetscCall(PetscFPrintf(out->comm, fp, "    </Grid>\n  </Domain>\n</Xdmf>\n"));
-  PetscCall(PetscFClose(out->comm, fp));
-  PetscCall(ClothFileRename(out->comm, tmp, out->xdmfpath));
+  PetscCall(ClothFileCommitText(out->comm, fp, tmp, out->xdmfpath));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* A restart appends to the series of its own run only: another run's frames (perhaps of other particles, after
+   -output_overwrite) would mix with its own. A series without run_id (an older clothsim's) is not checked. */
+static PetscErrorCode OutputCheckRun(ClothOutput out, hid_t file, uint64_t run_id)
+{
+  PetscBool has;
+  uint64_t  written;
+
+  PetscFunctionBeginUser;
+  PetscCall(ClothH5AttributeExists(file, "run_id", &has));
+  if (!has || !run_id) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(ClothH5AttributeReadUInt64(file, "run_id", &written));
+  if (written != run_id) PetscCall(ClothH5FileClose(&file));
+  PetscCheck(written == run_id, out->comm, PETSC_ERR_USER_INPUT,
+             "Output series %s was written by another run than the checkpoint's (its frames would mix with this run's): continue into another -output_dir, or move this series away to start a new one there", out->h5path);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -272,10 +296,12 @@ static PetscErrorCode OutputSetUpFile(ClothOutput out, const ClothOutputTopology
   PetscCall(ClothFileExists(out->comm, out->h5path, &exists));
   if (restart_time >= 0 && exists) {
     PetscCall(OutputFileOpen(out, &file));
+    PetscCall(OutputCheckRun(out, file, topology->run_id));
     PetscCall(OutputWriteTopology(out, file, topology));
     PetscCall(OutputTrimFrames(out, file, restart_time));
   } else {
     PetscCall(ClothH5FileCreate(out->comm, out->h5path, &file));
+    if (topology->run_id) PetscCall(ClothH5AttributeWriteUInt64(file, "run_id", topology->run_id));
     PetscCall(OutputWriteTopology(out, file, topology));
   }
   PetscCall(ClothH5FileClose(&file));
@@ -313,6 +339,26 @@ static PetscErrorCode OutputWriteFrameCounts(hid_t group, const ClothOutputFrame
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* Room for a frame (positions and node fields, 8 bytes a value) plus 1 MB, checked before the series is touched. */
+static PetscErrorCode OutputCheckFrameSpace(ClothOutput out, PetscInt64 step)
+{
+  double bytes = 1e6 + 24.0 * (double)out->nparticles;
+  char   what[CLOTH_PATH_LEN + 64], dir[CLOTH_PATH_LEN];
+  char  *slash;
+
+  PetscFunctionBeginUser;
+  for (PetscInt f = 0; f < OUTPUT_NFIELDS; f++) bytes += 8.0 * (double)(OutputNodeFields[f].ncomp * out->nparticles);
+  PetscCall(PetscStrncpy(dir, out->h5path, sizeof(dir)));
+  slash = strrchr(dir, '/');
+  if (slash)
+    *slash = 0;
+  else
+    PetscCall(PetscStrncpy(dir, ".", sizeof(dir)));
+  PetscCall(PetscSNPrintf(what, sizeof(what), "the frame of step %" PetscInt64_FMT " into %s", step, out->h5path));
+  PetscCall(ClothFileCheckSpace(out->comm, dir, bytes, what));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 /* Writes group /frames/NNNNNN (replacing one of the same step) with the positions, node fields and counts. */
 static PetscErrorCode OutputWriteFrameFields(ClothOutput out, PetscInt64 step, PetscReal time, Vec position, const Vec fields[], const ClothOutputFrame *content)
 {
@@ -320,6 +366,7 @@ static PetscErrorCode OutputWriteFrameFields(ClothOutput out, PetscInt64 step, P
   char  group[CLOTH_NAME_LEN];
 
   PetscFunctionBeginUser;
+  PetscCall(OutputCheckFrameSpace(out, step));
   PetscCall(OutputFrameGroupName(step, group, sizeof(group)));
   PetscCall(OutputFileOpen(out, &file));
   ClothCallHDF5(frames = H5Gopen2(file, "frames", H5P_DEFAULT));

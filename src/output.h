@@ -4,6 +4,7 @@
    each piece row by row, with PETSc's default contiguous layout and block size 3, so that every rank
    writes one contiguous hyperslab. */
 #pragma once
+#include <stdint.h>
 #include <petscvec.h>
 #include "util.h"
 
@@ -15,11 +16,13 @@ typedef struct {
   PetscInt        nparticles;
   PetscInt        nquads;
   const PetscInt *quads;
+  uint64_t        run_id; /* the run writing the series (root attribute run_id); 0: none, no check */
 } ClothOutputTopology;
 
 /* Opens the series. If restart_time >= 0 the existing series is kept up to and including that time
-   and later frames are dropped (a restarted run then appends with no duplicated or missing times);
-   otherwise any previous series under that name is replaced. Collective. */
+   and later frames are dropped (a restarted run then appends with no duplicated or missing times), unless it
+   was written by another run (its run_id differs from topology->run_id), which is refused; otherwise any
+   previous series under that name is replaced. Collective. */
 PetscErrorCode ClothOutputCreate(MPI_Comm comm, const char dir[], const char name[], const ClothOutputTopology *topology, PetscReal restart_time, ClothOutput *out);
 /* What a frame holds besides the positions. The Vecs are in natural order; the counts are totals over
    all ranks (every rank passes the same values). A run without bodies or without self-collision passes
@@ -44,6 +47,9 @@ PetscErrorCode ClothOutputWriteFrame(ClothOutput out, PetscInt step, PetscReal t
    the same full arrays. Calling it again with the same name replaces that mesh; after a restart call it
    again (the .xdmf lists the meshes added since ClothOutputCreate). Collective. */
 PetscErrorCode ClothOutputAddStaticMesh(ClothOutput out, const char name[], PetscInt nverts, const PetscReal coords[], PetscInt ntris, const PetscInt tris[]);
+/* Whether the series file NAME.h5 is still there (a directory deleted during a run takes it away) and its path
+   (may be NULL). Collective. */
+PetscErrorCode ClothOutputSeriesExists(ClothOutput out, PetscBool *exists, const char **path);
 /* The frames in the series, in step order, including those kept from before a restart. The arrays
    belong to out and stay valid until the next frame is written; any output may be NULL. Not collective. */
 PetscErrorCode ClothOutputGetFrames(ClothOutput out, PetscInt *nframes, const PetscInt64 *steps[], const PetscReal *times[]);

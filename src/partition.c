@@ -14,7 +14,9 @@ static PetscErrorCode PartitionBlock(PetscInt n, PetscInt nparts, PetscInt part[
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-static PetscErrorCode PartitionMETIS(PetscInt n, const PetscInt xadj[], const PetscInt adjncy[], PetscInt nparts, PetscInt part[])
+/* Rank 0 alone: returns METIS's status (METIS_OK = 1 on success, so never "nonzero is an error") instead of
+   raising, so that the caller can tell every rank. */
+static PetscErrorCode PartitionMETIS(PetscInt n, const PetscInt xadj[], const PetscInt adjncy[], PetscInt nparts, PetscInt part[], int *status)
 {
   idx_t  nvtxs = (idx_t)n, ncon = 1, np = (idx_t)nparts, objval, options[METIS_NOPTIONS];
   idx_t *mxadj, *madj, *mpart;
@@ -26,15 +28,31 @@ static PetscErrorCode PartitionMETIS(PetscInt n, const PetscInt xadj[], const Pe
   METIS_SetDefaultOptions(options);
   options[METIS_OPTION_SEED]      = 1; /* the same partition on every run */
   options[METIS_OPTION_NUMBERING] = 0;
-  ClothCallMETIS(METIS_PartGraphKway(&nvtxs, &ncon, mxadj, madj, NULL, NULL, NULL, &np, NULL, NULL, options, &objval, mpart));
-  for (PetscInt i = 0; i < n; i++) part[i] = (PetscInt)mpart[i];
+  *status                         = METIS_PartGraphKway(&nvtxs, &ncon, mxadj, madj, NULL, NULL, NULL, &np, NULL, NULL, options, &objval, mpart);
+  if (*status == METIS_OK)
+    for (PetscInt i = 0; i < n; i++) part[i] = (PetscInt)mpart[i];
   PetscCall(PetscFree3(mxadj, madj, mpart));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+static const char *MetisStatusName(int status)
+{
+  switch (status) {
+  case METIS_ERROR_INPUT:
+    return "METIS_ERROR_INPUT, an input error";
+  case METIS_ERROR_MEMORY:
+    return "METIS_ERROR_MEMORY, out of memory";
+  default:
+    return "METIS_ERROR";
+  }
+}
+
+/* Rank 0 partitions and broadcasts the partition with METIS's status: a METIS failure is raised on every rank
+   (raised on rank 0 alone, before the broadcast, it left the others waiting in it forever). */
 PetscErrorCode ClothPartitionGraph(MPI_Comm comm, ClothPartitionType type, PetscInt n, const PetscInt xadj[], const PetscInt adjncy[], PetscInt nparts, PetscInt part[])
 {
   PetscMPIInt rank;
+  int         status = METIS_OK;
 
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
@@ -42,11 +60,13 @@ PetscErrorCode ClothPartitionGraph(MPI_Comm comm, ClothPartitionType type, Petsc
     if (nparts == 1) {
       for (PetscInt i = 0; i < n; i++) part[i] = 0;
     } else if (type == CLOTH_PARTITION_METIS) {
-      PetscCall(PartitionMETIS(n, xadj, adjncy, nparts, part));
+      PetscCall(PartitionMETIS(n, xadj, adjncy, nparts, part, &status));
     } else {
       PetscCall(PartitionBlock(n, nparts, part));
     }
   }
+  PetscCallMPI(MPI_Bcast(&status, 1, MPI_INT, 0, comm));
+  PetscCheck(status == METIS_OK, comm, PETSC_ERR_LIB, "METIS_PartGraphKway failed (status %d, %s) splitting %" PetscInt_FMT " particles into %" PetscInt_FMT " parts: try -cloth_partition block", status, MetisStatusName(status), n, nparts);
   PetscCallMPI(MPI_Bcast(part, (PetscMPIInt)n, MPIU_INT, 0, comm));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

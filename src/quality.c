@@ -1,6 +1,7 @@
 /* Garment quality at the end of a run (see quality.h). */
 #include "quality.h"
 #include "sewing.h"
+#include "fileutil.h"
 
 /* Prints the n particles with the largest strain (natural Vec), with their piece and grid node. */
 static PetscErrorCode ViewMostStrained(Cloth cloth, Vec natural, PetscInt n)
@@ -93,6 +94,7 @@ PetscErrorCode ClothRunWriteQuality(ClothRun run, const char path[], PetscReal w
   PetscMPIInt      size;
   FILE            *fp;
   MPI_Comm         comm;
+  char             tmp[CLOTH_PATH_LEN];
 
   PetscFunctionBeginUser;
   PetscCall(ClothRunGetCloth(run, &cloth));
@@ -109,14 +111,15 @@ PetscErrorCode ClothRunWriteQuality(ClothRun run, const char path[], PetscReal w
   PetscCall(ClothGetState(cloth, &x, &v));
   PetscCall(ClothComputeEnergy(cloth, x, v, &energy));
   PetscCallMPI(MPI_Comm_size(comm, &size));
-  PetscCall(PetscFOpen(comm, path, "w", &fp));
+  PetscCall(PetscSNPrintf(tmp, sizeof(tmp), "%s.tmp", path)); /* renamed when complete: a full disk leaves no half file */
+  PetscCall(PetscFOpen(comm, tmp, "w", &fp));
   PetscCall(PetscFPrintf(comm, fp, "{\n  \"max_seam_gap_m\": %.6e,\n  \"sewn_pairs\": %" PetscInt_FMT ",\n  \"seam_pairs\": %" PetscInt_FMT ",\n", (double)gap, sewn, total));
   PetscCall(PetscFPrintf(comm, fp, "  \"particles_inside_body\": %" PetscInt_FMT ",\n  \"max_link_strain\": %.6e,\n  \"kinetic_energy_j\": %.6e,\n", inside, (double)strain, (double)energy.kinetic));
   PetscCall(PetscFPrintf(comm, fp, "  \"wall_s\": %.3f,\n  \"ranks\": %d,\n", (double)wall_seconds, (int)size));
   PetscCall(WriteSeamLinks(cloth, fp));
   PetscCall(PetscFPrintf(comm, fp, "}\n"));
-  PetscCall(PetscFClose(comm, fp));
-  PetscCall(PetscPrintf(comm, "Garment quality: widest seam gap %.2f mm (%" PetscInt_FMT "/%" PetscInt_FMT " pairs sewn), %" PetscInt_FMT " particles inside the body, max link strain %.4f, kinetic energy %.3e J -> %s\n", (double)(1e3 * gap), sewn,
-                        total, inside, (double)strain, (double)energy.kinetic, path));
+  PetscCall(ClothFileCommitText(comm, fp, tmp, path));
+  PetscCall(PetscPrintf(comm, "Garment quality: widest seam gap %.2f mm (%" PetscInt_FMT "/%" PetscInt_FMT " pairs sewn), %" PetscInt_FMT " particles inside the body, max link strain %.4f, kinetic energy %.3e J -> %s\n",
+                        (double)(1e3 * gap), sewn, total, inside, (double)strain, (double)energy.kinetic, path));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -1,5 +1,8 @@
 /* ClothRun (see run.h). */
+#define _POSIX_C_SOURCE 200809L
 #include <signal.h>
+#include <time.h>
+#include <unistd.h>
 #include "run.h"
 #include "output.h"
 #include "checkpoint.h"
@@ -7,6 +10,9 @@
 #include "sewing.h"
 #include "quality.h"
 #include "log.h"
+#include "options.h"
+#include "fileutil.h"
+#include "h5util.h"
 
 struct _n_ClothRun {
   MPI_Comm         comm;
@@ -22,9 +28,13 @@ struct _n_ClothRun {
   PetscInt  steps; /* total steps of the run (from -steps or t_final / dt) */
   PetscInt  step;  /* steps taken so far (continues from a restart) */
   PetscReal time;
-  PetscInt  dt_start_step; /* step and time at which dt came into use (0, 0 unless a restart */
-  PetscReal dt_start_time; /* changed dt): time = dt_start_time + dt (step - dt_start_step) */
-  PetscBool dt_set;        /* -dt given: it overrides the step of a restart's checkpoint */
+  PetscInt  dt_start_step;     /* step and time at which dt came into use (0, 0 unless a restart */
+  PetscReal dt_start_time;     /* changed dt): time = dt_start_time + dt (step - dt_start_step) */
+  PetscBool dt_set;            /* -dt given: it overrides the step of a restart's checkpoint */
+  PetscBool restart_any_scene; /* -restart_any_scene: accept a checkpoint of another scene (same particle count) */
+  PetscBool output_overwrite;  /* -output_overwrite: a new run may replace the results in output_dir */
+  int       output_lock;       /* rank 0: the lock on output_dir (fileutil.h); -1 elsewhere */
+  uint64_t  run_id;            /* this run's identity in its checkpoints; a restart continues its checkpoint's */
   char      output_dir[CLOTH_PATH_LEN];
   PetscInt  output_every, checkpoint_every, checkpoint_keep;
   char      restart[CLOTH_PATH_LEN];
@@ -74,6 +84,7 @@ PetscErrorCode ClothRunCreate(MPI_Comm comm, Scene scene, ClothRun *run)
   r->output_every     = scene->run.output_every > 0 ? scene->run.output_every : 10;
   r->checkpoint_every = scene->run.checkpoint_every;
   r->checkpoint_keep  = 2;
+  r->output_lock      = -1;
   r->progress_seconds = 2.0;
   PetscCall(PetscSNPrintf(r->output_dir, sizeof(r->output_dir), "output/%s", scene->name));
   PetscCall(ClothCreate(comm, scene, &r->cloth));
@@ -89,6 +100,44 @@ PetscErrorCode ClothRunCreate(MPI_Comm comm, Scene scene, ClothRun *run)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* Memory a particle costs, measured: the hanging sheet's peak memory grows by 2.4 kB per particle from 65 x 65 to
+   257 x 257 (implicit integrator, 1 rank); contacts and self-collision add to it, so this is a lower bound. */
+#define CLOTH_RUN_BYTES_PER_PARTICLE 2400.0
+
+/* Refuses a scene whose particles cannot fit in the memory of the nodes before anything is allocated for them,
+   naming the grids and the memory: without it, a huge grid ends in the allocator, a message that names neither.
+   Each node needs its ranks' share; the node that lacks memory the most decides, for all ranks alike. */
+static PetscErrorCode ClothRunCheckMemory(ClothRun run)
+{
+  MPI_Comm    node;
+  PetscMPIInt size, node_ranks;
+  PetscInt    n;
+  double      need, have, shortfall;
+  char        grids[256] = "";
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_size(run->comm, &size));
+  PetscCallMPI(MPI_Comm_split_type(run->comm, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node));
+  PetscCallMPI(MPI_Comm_size(node, &node_ranks));
+  PetscCallMPI(MPI_Comm_free(&node));
+  PetscCall(SceneGetParticleCount(run->scene, &n));
+  need      = CLOTH_RUN_BYTES_PER_PARTICLE * (double)n / size * node_ranks;
+  have      = (double)sysconf(_SC_PHYS_PAGES) * (double)sysconf(_SC_PAGESIZE);
+  shortfall = have > 0 ? need / have : 0; /* 0: the memory size is unknown here */
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &shortfall, 1, MPI_DOUBLE, MPI_MAX, run->comm));
+  if (shortfall <= 1) PetscFunctionReturn(PETSC_SUCCESS);
+  for (PetscInt p = 0; p < run->scene->npieces && p < 4; p++) {
+    char piece[96];
+
+    PetscCall(PetscSNPrintf(piece, sizeof(piece), "%s'%s' %" PetscInt_FMT " x %" PetscInt_FMT, p ? ", " : "", run->scene->pieces[p].name, run->scene->pieces[p].nu, run->scene->pieces[p].nv));
+    PetscCall(PetscStrlcat(grids, piece, sizeof(grids)));
+  }
+  if (run->scene->npieces > 4) PetscCall(PetscStrlcat(grids, ", ...", sizeof(grids)));
+  SETERRQ(run->comm, PETSC_ERR_USER_INPUT,
+          "scene %s: the grids (%s) give %" PetscInt_FMT " particles, which need about %.3g GB of memory on a node (%.1f kB per particle, %d of %d ranks on it), %.3g times the %.3g GB it has: expected fewer particles or more nodes", run->scene->path,
+          grids, n, need / 1e9, CLOTH_RUN_BYTES_PER_PARTICLE / 1e3, node_ranks, size, shortfall, have / 1e9);
+}
+
 PetscErrorCode ClothRunSetFromOptions(ClothRun run)
 {
   PetscInt  grid = 0;
@@ -101,24 +150,32 @@ PetscErrorCode ClothRunSetFromOptions(ClothRun run)
   PetscCall(PetscOptionsReal("-t_final", "Simulated time to reach, s", "ClothRunSolve", run->t_final, &run->t_final, &set_tfinal));
   PetscCall(PetscOptionsInt("-steps", "Number of steps (instead of -t_final)", "ClothRunSolve", run->steps, &run->steps, &set_steps));
   PetscCall(PetscOptionsString("-output_dir", "Directory for the XDMF series and checkpoints", "ClothRunSetUp", run->output_dir, run->output_dir, sizeof(run->output_dir), NULL));
+  PetscCall(PetscOptionsBool("-output_overwrite", "A new run may replace the results already in -output_dir (otherwise refused; -restart continues them)", "ClothRunSetUp", run->output_overwrite, &run->output_overwrite, NULL));
   PetscCall(PetscOptionsInt("-output_every", "Write an XDMF frame every K steps (0: only the first and last)", "ClothRunSolve", run->output_every, &run->output_every, NULL));
   PetscCall(PetscOptionsInt("-checkpoint_every", "Write a checkpoint every K steps (0: only at the end)", "ClothRunSolve", run->checkpoint_every, &run->checkpoint_every, NULL));
-  PetscCall(PetscOptionsInt("-checkpoint_keep", "Keep only the newest N checkpoints (0: keep all)", "ClothCheckpointWrite", run->checkpoint_keep, &run->checkpoint_keep, NULL));
+  PetscCall(PetscOptionsInt("-checkpoint_keep", "Keep only the newest N checkpoints of this run (0: keep all)", "ClothCheckpointWrite", run->checkpoint_keep, &run->checkpoint_keep, NULL));
   PetscCall(PetscOptionsString("-restart", "Continue from this checkpoint (any number of ranks)", "ClothRunSetUp", run->restart, run->restart, sizeof(run->restart), NULL));
+  PetscCall(PetscOptionsBool("-restart_any_scene", "Continue from a checkpoint of another scene (one edited on purpose) with the same particle count", "ClothRunSetUp", run->restart_any_scene, &run->restart_any_scene, NULL));
   PetscCall(PetscOptionsReal("-progress_seconds", "Wall seconds between progress lines (0: every step)", "ClothRunSolve", run->progress_seconds, &run->progress_seconds, NULL));
   PetscCall(PetscOptionsReal("-gravity_ramp", "Seconds over which gravity rises linearly from 0 to its full value (0: full from the start)", "ClothRunSolve", run->gravity_ramp, &run->gravity_ramp, NULL));
   PetscCall(PetscOptionsBool("-monitor_energy", "Print kinetic, gravitational and elastic energy with every frame", "ClothRunSolve", run->monitor_energy, &run->monitor_energy, NULL));
   PetscOptionsEnd();
-  PetscCheck(run->dt > 0, run->comm, PETSC_ERR_USER_INPUT, "-dt must be positive, got %g", (double)run->dt);
-  PetscCheck(run->gravity_ramp >= 0, run->comm, PETSC_ERR_USER_INPUT, "-gravity_ramp must not be negative, got %g", (double)run->gravity_ramp);
+  PetscCall(ClothOptionsCheckReal(run->comm, "-dt", run->dt, 0, PETSC_TRUE, PETSC_MAX_REAL, "s"));
+  PetscCall(ClothOptionsCheckReal(run->comm, "-gravity_ramp", run->gravity_ramp, 0, PETSC_FALSE, PETSC_MAX_REAL, "s"));
+  PetscCall(ClothOptionsCheckReal(run->comm, "-progress_seconds", run->progress_seconds, 0, PETSC_FALSE, PETSC_MAX_REAL, "s"));
   PetscCheck(!(run->gravity_ramp > 0 && run->scene->nseams > 0), run->comm, PETSC_ERR_USER_INPUT, "-gravity_ramp cannot be used with seams: the sewing phases switch gravity themselves");
-  PetscCheck(run->steps >= 0 && run->output_every >= 0 && run->checkpoint_every >= 0, run->comm, PETSC_ERR_USER_INPUT, "-steps, -output_every and -checkpoint_every must not be negative");
+  PetscCall(ClothOptionsCheckInt(run->comm, "-steps", run->steps, 0, PETSC_MAX_INT));
+  PetscCall(ClothOptionsCheckInt(run->comm, "-output_every", run->output_every, 0, PETSC_MAX_INT));
+  PetscCall(ClothOptionsCheckInt(run->comm, "-checkpoint_every", run->checkpoint_every, 0, PETSC_MAX_INT));
+  PetscCall(ClothOptionsCheckInt(run->comm, "-checkpoint_keep", run->checkpoint_keep, 0, PETSC_MAX_INT));
+  PetscCheck(run->output_dir[0], run->comm, PETSC_ERR_USER_INPUT, "option -output_dir '': expected a directory name (default output/%s)", run->scene->name);
   if (set_grid) {
-    PetscCheck(grid >= 2, run->comm, PETSC_ERR_USER_INPUT, "-grid must be at least 2, got %" PetscInt_FMT, grid);
+    PetscCall(ClothOptionsCheckInt(run->comm, "-grid", grid, 2, PETSC_MAX_INT));
     PetscCall(SceneSetGridSize(run->scene, grid));
   }
   if (set_tfinal && !set_steps) run->steps = 0;
-  if (run->steps == 0) PetscCheck(run->t_final > 0, run->comm, PETSC_ERR_USER_INPUT, "-t_final must be positive, got %g", (double)run->t_final);
+  if (run->steps == 0) PetscCall(ClothOptionsCheckReal(run->comm, "-t_final", run->t_final, 0, PETSC_TRUE, PETSC_MAX_REAL, "s"));
+  PetscCall(ClothRunCheckMemory(run));
   PetscCall(ClothSetFromOptions(run->cloth));
   PetscCall(ClothIntegratorSetFromOptions(run->integrator));
   PetscCall(ClothSelfContactSetFromOptions(run->self_contact));
@@ -142,6 +199,7 @@ static PetscErrorCode ClothRunFillCheckpointInfo(ClothRun run, ClothCheckpointIn
   info->dt_start_time     = run->dt_start_time;
   info->scene_fingerprint = run->scene->fingerprint;
   info->nparticles        = nglobal;
+  info->run_id            = run->run_id;
   PetscCall(PetscStrncpy(info->integrator, type, sizeof(info->integrator)));
   PetscCall(PetscStrncpy(info->scene_name, run->scene->name, sizeof(info->scene_name)));
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -215,7 +273,9 @@ static PetscErrorCode ClothRunRestore(ClothRun run)
   PetscCall(ClothRunFillCheckpointInfo(run, &expect));
   PetscCall(ClothRunCheckpointFields(run, PETSC_TRUE, fields, &nfields));
   PetscCall(PetscLogEventBegin(ClothLog.checkpoint_read, 0, 0, 0, 0));
-  PetscCall(ClothCheckpointRead(run->comm, run->restart, &expect, &info, nfields, fields));
+  PetscCall(ClothCheckpointRead(run->comm, run->restart, run->restart_any_scene ? NULL : &expect, &info, nfields, fields));
+  if (info.scene_fingerprint != expect.scene_fingerprint)
+    PetscCall(PetscFPrintf(run->comm, PETSC_STDERR, "WARNING: checkpoint %s was written for scene '%s' of another fingerprint; continuing with this scene '%s' (-restart_any_scene)\n", run->restart, info.scene_name, run->scene->name));
   PetscCall(PetscLogEventEnd(ClothLog.checkpoint_read, 0, 0, 0, 0));
   PetscCall(ClothGetState(run->cloth, &x, &v));
   PetscCall(ClothScatterToNatural(run->cloth, x, run->natural_position, SCATTER_REVERSE));
@@ -228,6 +288,7 @@ static PetscErrorCode ClothRunRestore(ClothRun run)
   }
   run->step = (PetscInt)info.step;
   run->time = info.time;
+  if (info.run_id) run->run_id = info.run_id; /* the same run continues: its pruning covers its earlier checkpoints */
   if (run->sewing) PetscCall(ClothSewingSetStateVec(run->sewing, run->natural_sewn, run->time));
   for (PetscInt f = 0; f < CLOTH_SLIDER_FAMILIES; f++)
     if (run->natural_slider[f]) PetscCall(ClothHysteresisSetState(run->cloth, (ClothSliderFamily)f, run->natural_slider[f]));
@@ -249,11 +310,25 @@ static PetscErrorCode ClothRunRestoreWarmStart(ClothRun run)
 }
 
 /* The last step of the run: -steps, or -t_final reached with the step in use (counted from where that
-   step came into use, so that a restart with another -dt still ends at t_final). */
+   step came into use, so that a restart with another -dt still ends at t_final). Counted in double: a
+   count beyond PetscInt (-t_final 1e9 with a small step) is refused, as is a new run of no step at all
+   (-dt longer than -t_final), which would otherwise end at once with exit status 0 like a finished run. */
 static PetscErrorCode ClothRunResolveSteps(ClothRun run)
 {
+  double last;
+  char   message[256] = "";
+
   PetscFunctionBeginUser;
-  if (run->steps == 0) run->steps = run->dt_start_step + (PetscInt)PetscFloorReal((run->t_final - run->dt_start_time) / run->dt + 0.5);
+  if (run->steps > 0) PetscFunctionReturn(PETSC_SUCCESS);
+  last = (double)run->dt_start_step + floor((double)(run->t_final - run->dt_start_time) / (double)run->dt + 0.5);
+  /* snprintf, not PETSc's printf, whose %g writes 1e9 as "1e+09." */
+  if (last > (double)PETSC_MAX_INT)
+    snprintf(message, sizeof(message), "-t_final %g s with -dt %g s needs %.4g steps: expected at most %d steps (a larger -dt, a shorter -t_final, or a restart chain)", (double)run->t_final, (double)run->dt, last - (double)run->step,
+             (int)PETSC_MAX_INT);
+  else if (last < 1 && !run->restart[0])
+    snprintf(message, sizeof(message), "-t_final %g s with -dt %g s is less than half a step: expected -dt <= -t_final (at least one step)", (double)run->t_final, (double)run->dt);
+  PetscCheck(!message[0], run->comm, PETSC_ERR_USER_INPUT, "%s", message);
+  run->steps = (PetscInt)last;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -267,6 +342,7 @@ static PetscErrorCode ClothRunOpenOutput(ClothRun run)
   topo.nparticles = model->nparticles;
   topo.nquads     = model->nquads;
   topo.quads      = model->quads;
+  topo.run_id     = run->run_id;
   PetscCall(ClothOutputCreate(run->comm, run->output_dir, run->scene->name, &topo, run->restart[0] ? run->time : -1.0, &run->output));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -292,10 +368,65 @@ static PetscErrorCode ClothRunAddBodyMeshes(ClothRun run)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* A new identity for this run's checkpoints: rank 0's clock and pid, mixed, never 0. */
+static PetscErrorCode ClothRunNewId(ClothRun run)
+{
+  PetscMPIInt rank;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(run->comm, &rank));
+  if (rank == 0) {
+    uint64_t x = ((uint64_t)time(NULL) << 32) ^ ((uint64_t)getpid() << 12) ^ (uint64_t)(1e6 * MPI_Wtime());
+
+    x           = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    x           = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
+    run->run_id = (x ^ (x >> 31)) | 1;
+  }
+  PetscCallMPI(MPI_Bcast(&run->run_id, 1, MPI_UINT64_T, 0, run->comm));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Makes output_dir this run's: a lock against a second live run in it, and, for a new run, no results of an
+   earlier one (a series, checkpoints) that it would overwrite or mix with, unless -output_overwrite. */
+static PetscErrorCode ClothRunClaimOutput(ClothRun run)
+{
+  char      holder[CLOTH_NAME_LEN + 16], path[CLOTH_PATH_LEN], newest[CLOTH_PATH_LEN];
+  PetscInt  ncheckpoints;
+  PetscBool series, xdmf;
+
+  PetscFunctionBeginUser;
+  PetscCall(ClothFileMakeDirectory(run->comm, run->output_dir));
+  PetscCall(PetscSNPrintf(holder, sizeof(holder), "scene %s", run->scene->name));
+  PetscCall(ClothFileLockDirectory(run->comm, run->output_dir, holder, &run->output_lock));
+  /* the longest name the run will open, checked now rather than at its first checkpoint, after the computing */
+  PetscCall(PetscSNPrintf(path, sizeof(path), "%s/.checkpoint_%06d.h5.tmp", run->output_dir, 0));
+  PetscCall(ClothH5CheckPathLength(run->comm, path));
+  PetscCall(PetscSNPrintf(path, sizeof(path), "%s/%s.h5", run->output_dir, run->scene->name));
+  PetscCall(ClothH5CheckPathLength(run->comm, path));
+  PetscCall(ClothRunNewId(run));
+  if (run->restart[0]) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(PetscSNPrintf(path, sizeof(path), "%s/%s.h5", run->output_dir, run->scene->name));
+  PetscCall(ClothFileExists(run->comm, path, &series));
+  PetscCall(PetscSNPrintf(path, sizeof(path), "%s/%s.xdmf", run->output_dir, run->scene->name));
+  PetscCall(ClothFileExists(run->comm, path, &xdmf));
+  PetscCall(ClothCheckpointFindNewest(run->comm, run->output_dir, newest, sizeof(newest), &ncheckpoints));
+  if (run->output_overwrite) { /* the series is replaced; checkpoints are another run's, kept (and never pruned by this one) */
+    if (ncheckpoints)
+      PetscCall(
+          PetscFPrintf(run->comm, PETSC_STDERR, "WARNING: -output_overwrite: the %" PetscInt_FMT " checkpoint(s) of an earlier run in %s stay (the newest %s); this run's are told apart by their run_id\n", ncheckpoints, run->output_dir, newest));
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
+  PetscCheck(!series && !xdmf && !ncheckpoints, run->comm, PETSC_ERR_USER_INPUT,
+             "output directory %s already holds results (%s%s%" PetscInt_FMT " checkpoint(s)%s%s): continue them with -restart %s, replace them with -output_overwrite, or choose another -output_dir", run->output_dir,
+             series || xdmf ? run->scene->name : "", series || xdmf ? " series, " : "", ncheckpoints, ncheckpoints ? ", the newest " : "", newest, ncheckpoints ? newest : "CHECKPOINT");
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode ClothRunSetUp(ClothRun run)
 {
   PetscFunctionBeginUser;
   PetscCall(PetscLogStagePush(ClothLog.stage_setup));
+  PetscCall(ClothRunClaimOutput(run));
   PetscCall(ClothSetUp(run->cloth));
   if (run->collision) PetscCall(ClothCollisionSetUp(run->collision)); /* reads meshes, pushes out particles that start inside */
   {
@@ -361,12 +492,30 @@ static PetscErrorCode ClothRunGatherContacts(ClothRun run, ClothOutputFrame *fra
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+static PetscErrorCode ClothRunWriteCheckpoint(ClothRun run);
+
+/* A series that vanished during the run (its directory deleted or moved) cannot take the frame: the state is
+   saved in a checkpoint first (which recreates the directory), then the run stops saying where it is. */
+static PetscErrorCode ClothRunCheckSeries(ClothRun run)
+{
+  PetscBool   exists;
+  const char *path;
+
+  PetscFunctionBeginUser;
+  PetscCall(ClothOutputSeriesExists(run->output, &exists, &path));
+  if (exists) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(ClothRunWriteCheckpoint(run));
+  SETERRQ(run->comm, PETSC_ERR_FILE_OPEN, "Output series %s is gone (was its directory deleted or moved during the run?): the state at step %" PetscInt_FMT " is saved in %s; continue with -restart %s", path, run->step, run->last_checkpoint,
+          run->last_checkpoint);
+}
+
 static PetscErrorCode ClothRunWriteFrame(ClothRun run)
 {
   Vec              x;
   ClothOutputFrame frame;
 
   PetscFunctionBeginUser;
+  PetscCall(ClothRunCheckSeries(run));
   PetscCall(PetscLogEventBegin(ClothLog.output, 0, 0, 0, 0));
   PetscCall(ClothRunGatherNatural(run));
   PetscCall(ClothGetState(run->cloth, &x, NULL));
@@ -544,6 +693,7 @@ PetscErrorCode ClothRunDestroy(ClothRun *run)
   PetscFunctionBeginUser;
   if (!r) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(ClothOutputDestroy(&r->output));
+  PetscCall(ClothFileUnlockDirectory(&r->output_lock));
   PetscCall(ClothIntegratorDestroy(&r->integrator));
   PetscCall(ClothCollisionDestroy(&r->collision));
   PetscCall(ClothSewingDestroy(&r->sewing));

@@ -54,6 +54,7 @@
 
    Every error names the file, the line (libyaml's mark, 1-based), the key and the block, what was expected and
    what was found:  scene FILE, line L: key 'KEY' in fabric 'NAME': expected a positive number (kg/m^2), got '-1' */
+#include <ctype.h>
 #include <errno.h>
 #include <inttypes.h>
 #include <limits.h>
@@ -133,6 +134,9 @@ const char *const        SceneBodyTypes[]       = {"sphere", "plane", "mesh", "S
 #define SCENE_ORTHOGONALITY_TOL 1e-6  /* |u.v| of unit axes that count as orthogonal (and parallel: 1 - it) */
 #define SCENE_CORNER_JOIN_RTOL 1e-6   /* boundary ends this fraction of the outline's size apart still meet: coordinates typed with 7 digits join */
 #define SCENE_PLANE_DISTANCE_TOL 1e-6 /* m: a point this close to a piece's plane lies in it (a cone's apex; not a cylinder's axis point) */
+/* The most particles a scene may have: the state vectors hold 3 coordinates per particle, indexed by PetscInt
+   (32 bits in Debian's PETSc). Sizes are multiplied in 64 bits, so that a grid beyond it is named, not wrapped. */
+#define SCENE_MAX_PARTICLES ((PetscInt64)PETSC_MAX_INT / 3)
 #define SCENE_TEXT_LEN 1024           /* room for an expectation or a description in a message */
 #define SCENE_DESCRIBE_DEPTH 3        /* nested lists shown in messages (aliases may make cycles) */
 #define SCENE_FNV_OFFSET UINT64_C(0xcbf29ce484222325)
@@ -284,6 +288,56 @@ static PetscErrorCode SceneExpectInt(PetscInt count, PetscInt min, char buf[], s
     PetscCall(PetscSNPrintf(buf, len, "a list of %" PetscInt_FMT " integers%s", count, bound));
   else
     PetscCall(PetscSNPrintf(buf, len, "an integer%s", bound));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The particles of all pieces, counted in 64 bits. */
+static PetscInt64 SceneCountParticles(Scene scene)
+{
+  PetscInt64 n = 0;
+
+  for (PetscInt p = 0; p < scene->npieces; p++) n += (PetscInt64)scene->pieces[p].nu * scene->pieces[p].nv;
+  return n;
+}
+
+/* Errors when the pieces have more than SCENE_MAX_PARTICLES particles in all; cause says what set the grids
+   ("" for the file, "-grid N"). */
+static PetscErrorCode SceneCheckParticleCount(Scene scene, const char cause[])
+{
+  const PetscInt64 n = SceneCountParticles(scene);
+
+  PetscFunctionBeginUser;
+  PetscCheck(n <= SCENE_MAX_PARTICLES, scene->comm, PETSC_ERR_USER_INPUT, "scene %s%s%s: the pieces have %" PetscInt64_FMT " particles in all: expected at most %" PetscInt64_FMT " (3 coordinates each, indexed by a %d-bit PetscInt)", scene->path,
+             cause[0] ? ", " : "", cause, n, SCENE_MAX_PARTICLES, (int)(8 * sizeof(PetscInt)));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The largest distance between neighbouring particles of a piece in its flat layout, m (from its size, or the
+   bounding box of its outline). */
+static PetscReal ScenePieceLargestSpacing(const ScenePiece *piece)
+{
+  PetscReal extent[2] = {piece->size[0], piece->size[1]};
+
+  if (piece->has_boundaries) {
+    PetscReal lo[2] = {PETSC_MAX_REAL, PETSC_MAX_REAL}, hi[2] = {PETSC_MIN_REAL, PETSC_MIN_REAL};
+
+    for (PetscInt b = 0; b < 4; b++)
+      for (PetscInt k = 0; k < piece->boundary_npoints[b]; k++)
+        for (PetscInt c = 0; c < 2; c++) {
+          lo[c] = PetscMin(lo[c], piece->boundary_points[b][2 * k + c]);
+          hi[c] = PetscMax(hi[c], piece->boundary_points[b][2 * k + c]);
+        }
+    extent[0] = hi[0] - lo[0];
+    extent[1] = hi[1] - lo[1];
+  }
+  return PetscMax(extent[0] / (PetscReal)(piece->nu - 1), extent[1] / (PetscReal)(piece->nv - 1));
+}
+
+PetscErrorCode SceneGetLargestSpacing(Scene scene, PetscReal *spacing)
+{
+  PetscFunctionBeginUser;
+  *spacing = 0;
+  for (PetscInt p = 0; p < scene->npieces; p++) *spacing = PetscMax(*spacing, ScenePieceLargestSpacing(&scene->pieces[p]));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -528,6 +582,44 @@ static PetscErrorCode ReadString(SceneReader *r, yaml_node_t *map, const char ke
   if (!node) PetscFunctionReturn(PETSC_SUCCESS);
   if (node->type != YAML_SCALAR_NODE || node->data.scalar.length == 0 || node->data.scalar.length >= len) PetscCall(SceneFailValue(r, node, key, "%s", expected));
   PetscCall(PetscStrncpy(buf, (const char *)node->data.scalar.value, len));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Names become file names, HDF5 groups and XDMF attributes: letters, digits and _ . + - only, not starting
+   with '.', so that a name can neither leave the output directory ('/'), hide a file, nor break the XML ("<&>). */
+static PetscBool SceneNameIsSafe(const char name[])
+{
+  if (!name[0] || name[0] == '.') return PETSC_FALSE;
+  for (const char *c = name; *c; c++)
+    if (!isalnum((unsigned char)*c) && !strchr("_.+-", *c)) return PETSC_FALSE;
+  return PETSC_TRUE;
+}
+
+#define SCENE_NAME_RULE "letters, digits and _ . + - only, not starting with '.'"
+
+/* A name that goes into the output files (SceneNameIsSafe); returns its node like ReadString. */
+static PetscErrorCode ReadName(SceneReader *r, yaml_node_t *map, const char key[], PetscBool required, char buf[], size_t len, yaml_node_t **where)
+{
+  yaml_node_t *node;
+
+  PetscFunctionBeginUser;
+  PetscCall(ReadString(r, map, key, required, buf, len, &node));
+  if (where) *where = node;
+  if (node && !SceneNameIsSafe(buf)) PetscCall(SceneFailValue(r, node, key, "a name of 1 to %d characters: " SCENE_NAME_RULE, (int)len - 1));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Errors when name is also the name of one of the n earlier items of an array of structs whose first member
+   is their name (pieces, bodies): two bodies of one name would write one mesh over the other. */
+static PetscErrorCode SceneCheckNameUnique(SceneReader *r, yaml_node_t *node, const char kind[], const char name[], const void *items, size_t stride, PetscInt n)
+{
+  PetscFunctionBeginUser;
+  for (PetscInt i = 0; i < n; i++) {
+    PetscBool same;
+
+    PetscCall(PetscStrcmp(name, (const char *)items + (size_t)i * stride, &same));
+    if (same) PetscCall(SceneFailValue(r, node, "name", "a name not used by another %s (%s %" PetscInt_FMT " is also called '%s')", kind, kind, i + 1, name));
+  }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -997,6 +1089,11 @@ static PetscErrorCode ReadGridAndSize(SceneReader *r, yaml_node_t *map, ScenePie
     PetscCall(SceneGetValue(r, map, "grid", &node));
     PetscCall(SceneFailValue(r, node, "grid", "[%" PetscInt_FMT ", %" PetscInt_FMT "], the node counts the boundaries give (bottom/top, left/right), or no grid", piece->grid_given[0], piece->grid_given[1]));
   }
+  if ((PetscInt64)grid[0] * grid[1] > SCENE_MAX_PARTICLES) {
+    PetscCall(SceneGetValue(r, map, "grid", &node));
+    PetscCall(SceneFailValue(r, node ? node : map, "grid", "a grid of at most %" PetscInt64_FMT " particles (3 coordinates each, indexed by a %d-bit PetscInt); this one has %" PetscInt64_FMT, SCENE_MAX_PARTICLES, (int)(8 * sizeof(PetscInt)),
+                             (PetscInt64)grid[0] * grid[1]));
+  }
   piece->grid_given[0] = piece->nu = grid[0];
   piece->grid_given[1] = piece->nv = grid[1];
   if (piece->has_boundaries) {
@@ -1051,6 +1148,9 @@ static PetscErrorCode ReadWrap(SceneReader *r, yaml_node_t *map, ScenePiece *pie
   } else {
     if (PetscAbsReal(along) > SCENE_ORTHOGONALITY_TOL) PetscCall(SceneFailValue(r, wrap, "wrap", "an axis parallel to the piece's plane (u_axis, v_axis)"));
     if (PetscAbsReal(offset) < SCENE_PLANE_DISTANCE_TOL) PetscCall(SceneFailValue(r, wrap, "wrap", "an axis_point off the piece's plane (the cylinder's radius is its distance from the plane)"));
+    /* a smaller cylinder puts neighbouring particles more than a radian apart: the piece winds into a knot */
+    if (PetscAbsReal(offset) < ScenePieceLargestSpacing(piece))
+      PetscCall(SceneFailValue(r, wrap, "wrap", "a cylinder radius (the axis_point's distance from the piece's plane) of at least the particle spacing, %g m; it is %g m", (double)ScenePieceLargestSpacing(piece), (double)PetscAbsReal(offset)));
   }
   piece->wrapped = PETSC_TRUE;
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -1065,13 +1165,8 @@ static PetscErrorCode SceneReadPiece(SceneReader *r, yaml_node_t *map, Scene sce
   PetscFunctionBeginUser;
   PetscCall(PetscSNPrintf(r->block, sizeof(r->block), "piece %" PetscInt_FMT, index + 1));
   PetscCall(SceneExpectMap(r, map, NULL, ScenePieceKeys, NULL));
-  PetscCall(ReadString(r, map, "name", PETSC_TRUE, piece->name, sizeof(piece->name), &name));
-  for (PetscInt p = 0; p < index; p++) {
-    PetscBool same;
-
-    PetscCall(PetscStrcmp(piece->name, scene->pieces[p].name, &same));
-    if (same) PetscCall(SceneFailValue(r, name, "name", "a name not used by another piece (piece %" PetscInt_FMT " is also called '%s')", p + 1, piece->name));
-  }
+  PetscCall(ReadName(r, map, "name", PETSC_TRUE, piece->name, sizeof(piece->name), &name));
+  PetscCall(SceneCheckNameUnique(r, name, "piece", piece->name, scene->pieces, sizeof(ScenePiece), index));
   PetscCall(PetscSNPrintf(r->block, sizeof(r->block), "piece '%s'", piece->name));
   PetscCall(ReadFabricName(r, map, scene, piece));
   PetscCall(ReadGridAndSize(r, map, piece));
@@ -1099,7 +1194,8 @@ static PetscErrorCode SceneReadPieces(SceneReader *r, yaml_node_t *root, Scene s
   if (scene->npieces == 0) PetscCall(SceneFailValue(r, list, "pieces", "%s", expected));
   PetscCall(PetscCalloc1(scene->npieces, &scene->pieces));
   for (PetscInt p = 0; p < scene->npieces; p++) PetscCall(SceneReadPiece(r, yaml_document_get_node(r->doc, items[p]), scene, p));
-  r->block[0]        = 0;
+  r->block[0] = 0;
+  PetscCall(SceneCheckParticleCount(scene, ""));
   scene->single_grid = scene->npieces == 1 ? PETSC_TRUE : PETSC_FALSE;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -1177,14 +1273,16 @@ static PetscErrorCode ReadBodyFile(SceneReader *r, yaml_node_t *map, SceneBody *
 
 static PetscErrorCode SceneReadBody(SceneReader *r, yaml_node_t *map, Scene scene, PetscInt index)
 {
-  SceneBody *body = &scene->bodies[index];
-  PetscInt   type = -1;
+  SceneBody   *body = &scene->bodies[index];
+  PetscInt     type = -1;
+  yaml_node_t *name;
 
   PetscFunctionBeginUser;
   PetscCall(PetscSNPrintf(r->block, sizeof(r->block), "body %" PetscInt_FMT, index + 1));
   PetscCall(SceneExpectMap(r, map, NULL, SceneBodyKeys, NULL));
   PetscCall(PetscSNPrintf(body->name, sizeof(body->name), "body%" PetscInt_FMT, index + 1));
-  PetscCall(ReadString(r, map, "name", PETSC_FALSE, body->name, sizeof(body->name), NULL));
+  PetscCall(ReadName(r, map, "name", PETSC_FALSE, body->name, sizeof(body->name), &name));
+  PetscCall(SceneCheckNameUnique(r, name ? name : map, "body", body->name, scene->bodies, sizeof(SceneBody), index));
   PetscCall(PetscSNPrintf(r->block, sizeof(r->block), "body '%s'", body->name));
   PetscCall(ReadChoice(r, map, "type", PETSC_TRUE, SceneBodyTypes, &type));
   body->type      = (SceneBodyType)type;
@@ -1226,10 +1324,11 @@ static PetscErrorCode SceneReadBodies(SceneReader *r, yaml_node_t *root, Scene s
 
 /* The optional self_collision: block (cloth-cloth contact, see selfcontact.h); thickness and stiffness are
    required when it is enabled. */
-static PetscErrorCode SceneReadSelfCollision(SceneReader *r, yaml_node_t *root, SceneSelfCollision *self)
+static PetscErrorCode SceneReadSelfCollision(SceneReader *r, yaml_node_t *root, Scene scene)
 {
-  yaml_node_t *map;
-  PetscInt     enabled = 0, same_piece = 1;
+  SceneSelfCollision *self = &scene->self_collision;
+  yaml_node_t        *map;
+  PetscInt            enabled = 0, same_piece = 1;
 
   PetscFunctionBeginUser;
   PetscCall(SceneGetValue(r, root, "self_collision", &map));
@@ -1241,6 +1340,16 @@ static PetscErrorCode SceneReadSelfCollision(SceneReader *r, yaml_node_t *root, 
   PetscCall(ReadChoice(r, map, "enabled", PETSC_FALSE, SceneBooleans, &enabled));
   self->enabled = enabled ? PETSC_TRUE : PETSC_FALSE;
   PetscCall(ReadReal(r, map, "thickness", self->enabled, SCENE_REAL_POSITIVE, "m", &self->thickness));
+  if (self->enabled) {
+    yaml_node_t *node;
+    PetscReal    spacing;
+
+    PetscCall(SceneGetLargestSpacing(scene, &spacing));
+    PetscCall(SceneGetValue(r, map, "thickness", &node));
+    if (self->thickness > SCENE_SELF_COLLISION_MAX_SPACINGS * spacing)
+      PetscCall(SceneFailValue(r, node, "thickness", "a positive number (m) of at most %d particle spacings, %g m (the coarsest piece's spacing is %g m)", SCENE_SELF_COLLISION_MAX_SPACINGS, (double)(SCENE_SELF_COLLISION_MAX_SPACINGS * spacing),
+                               (double)spacing));
+  }
   PetscCall(ReadReal(r, map, "stiffness", self->enabled, SCENE_REAL_POSITIVE, "N/m", &self->stiffness));
   PetscCall(ReadInt(r, map, "exclude_ring", PETSC_FALSE, 0, &self->exclude_ring));
   PetscCall(ReadChoice(r, map, "same_piece", PETSC_FALSE, SceneBooleans, &same_piece));
@@ -1277,6 +1386,20 @@ static PetscErrorCode SceneReadSeamSide(SceneReader *r, yaml_node_t *seam, const
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* A seam joins two different stretches: the same side of one piece in both a and b, with stretches that meet,
+   would pair particles with themselves (a link of zero length, which stops the run at its first step). */
+static PetscErrorCode SceneCheckSeamSidesApart(SceneReader *r, yaml_node_t *map, Scene scene, const SceneSeam *seam)
+{
+  const SceneSeamSide *a = &seam->a, *b = &seam->b;
+
+  PetscFunctionBeginUser;
+  if (a->piece != b->piece || a->side != b->side) PetscFunctionReturn(PETSC_SUCCESS);
+  if (PetscMax(a->from, a->to) < PetscMin(b->from, b->to) || PetscMax(b->from, b->to) < PetscMin(a->from, a->to)) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(SceneFailValue(r, map, NULL, "sides a and b on two different stretches; both are on the %s side of piece '%s' (%g..%g and %g..%g), so the seam would join particles to themselves", ClothPieceSides[a->side], scene->pieces[a->piece].name,
+                           (double)a->from, (double)a->to, (double)b->from, (double)b->to));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 static PetscErrorCode SceneReadSeams(SceneReader *r, yaml_node_t *root, Scene scene)
 {
   const char        expected[] = "a list of seams (maps with a, b and optionally name, bend)";
@@ -1295,10 +1418,11 @@ static PetscErrorCode SceneReadSeams(SceneReader *r, yaml_node_t *root, Scene sc
 
     PetscCall(SceneExpectMap(r, map, "seams", SceneSeamKeys, NULL));
     PetscCall(PetscSNPrintf(seam->name, sizeof(seam->name), "seam%" PetscInt_FMT, k));
-    PetscCall(ReadString(r, map, "name", PETSC_FALSE, seam->name, sizeof(seam->name), NULL));
+    PetscCall(ReadName(r, map, "name", PETSC_FALSE, seam->name, sizeof(seam->name), NULL));
     PetscCall(PetscSNPrintf(r->block, sizeof(r->block), "seam '%s'", seam->name));
     PetscCall(SceneReadSeamSide(r, map, "a", scene, &seam->a));
     PetscCall(SceneReadSeamSide(r, map, "b", scene, &seam->b));
+    PetscCall(SceneCheckSeamSidesApart(r, map, scene, seam));
     PetscCall(ReadChoice(r, map, "bend", PETSC_FALSE, SceneBooleans, &bend));
     seam->bend = bend ? PETSC_TRUE : PETSC_FALSE;
   }
@@ -1333,20 +1457,22 @@ static PetscErrorCode SceneReadSewing(SceneReader *r, yaml_node_t *root, SceneSe
 
 static PetscErrorCode SceneReadDocument(SceneReader *r, Scene scene)
 {
-  yaml_node_t *root = yaml_document_get_root_node(r->doc);
+  yaml_node_t *root = yaml_document_get_root_node(r->doc), *name;
   char         keys[SCENE_TEXT_LEN];
 
   PetscFunctionBeginUser;
   PetscCall(SceneJoinNames(SceneTopKeys, -1, keys, sizeof(keys)));
   PetscCheck(root, r->comm, PETSC_ERR_USER_INPUT, "scene %s, line 1: the file is empty: expected a map with keys among %s", r->path, keys);
   PetscCall(SceneExpectMap(r, root, NULL, SceneTopKeys, NULL));
-  PetscCall(ReadString(r, root, "name", PETSC_FALSE, scene->name, sizeof(scene->name), NULL));
+  PetscCall(ReadName(r, root, "name", PETSC_FALSE, scene->name, sizeof(scene->name), &name));
+  PetscCheck(name || SceneNameIsSafe(scene->name), r->comm, PETSC_ERR_USER_INPUT, "scene %s: the scene is named '%s' after its file, which names the output files: expected a key 'name' (" SCENE_NAME_RULE ") or a file name of such characters",
+             r->path, scene->name);
   PetscCall(ReadRealList(r, root, "gravity", PETSC_FALSE, 3, SCENE_REAL_ANY, "m/s^2", scene->gravity));
   PetscCall(SceneReadFabrics(r, root, scene));
   PetscCall(SceneReadPieces(r, root, scene));
   PetscCall(SceneReadRun(r, root, &scene->run));
   PetscCall(SceneReadBodies(r, root, scene));
-  PetscCall(SceneReadSelfCollision(r, root, &scene->self_collision));
+  PetscCall(SceneReadSelfCollision(r, root, scene));
   PetscCall(SceneReadSeams(r, root, scene));
   PetscCall(SceneReadSewing(r, root, &scene->sewing));
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -1355,7 +1481,12 @@ static PetscErrorCode SceneReadDocument(SceneReader *r, Scene scene)
 /* ------------------------------------------------------------------------------------------------------------ */
 /* File and YAML                                                                                                */
 
-/* Rank 0 only, never raises: reads the whole file, or returns the errno of the failure. */
+/* The largest scene file read: far above any scene (the garment is 10 kB), and a limit for what is not one
+   (-scene /dev/zero, a checkpoint given by mistake), which is refused before it fills the memory. */
+#define SCENE_MAX_FILE_BYTES (64ll << 20)
+
+/* Rank 0 only, never raises: reads the whole file (up to one byte beyond SCENE_MAX_FILE_BYTES, enough to tell
+   that it is too large), or returns the errno of the failure. */
 static PetscErrorCode SceneReadFileSerial(const char path[], char **bytes, long long *len, long long *err)
 {
   FILE  *fp;
@@ -1370,7 +1501,7 @@ static PetscErrorCode SceneReadFileSerial(const char path[], char **bytes, long 
     PetscFunctionReturn(PETSC_SUCCESS);
   }
   PetscCall(PetscMalloc1(cap, bytes));
-  while ((got = fread(*bytes + n, 1, cap - n, fp)) > 0) {
+  while (n <= SCENE_MAX_FILE_BYTES && (got = fread(*bytes + n, 1, cap - n, fp)) > 0) {
     n += got;
     if (n == cap) {
       cap *= 2;
@@ -1396,7 +1527,8 @@ static PetscErrorCode SceneReadBytes(MPI_Comm comm, const char path[], char **by
   PetscCallMPI(MPI_Bcast(header, 2, MPI_LONG_LONG, 0, comm));
   if (header[1]) PetscCall(PetscFree(buf));
   PetscCheck(!header[1], comm, PETSC_ERR_FILE_OPEN, "scene %s: cannot read the file (%s): expected a readable YAML scene file", path, strerror((int)header[1]));
-  PetscCheck(header[0] < INT_MAX, comm, PETSC_ERR_FILE_READ, "scene %s: the file has %lld bytes: expected less than 2 GB", path, header[0]);
+  if (header[0] > SCENE_MAX_FILE_BYTES) PetscCall(PetscFree(buf));
+  PetscCheck(header[0] <= SCENE_MAX_FILE_BYTES, comm, PETSC_ERR_USER_INPUT, "scene %s: the file is larger than %lld MB: expected a YAML scene file (a few kB)", path, SCENE_MAX_FILE_BYTES >> 20);
   if (rank == 0)
     PetscCall(PetscRealloc((size_t)header[0] + 1, &buf));
   else
@@ -1505,12 +1637,15 @@ PetscErrorCode SceneSetGridSize(Scene scene, PetscInt n)
   ScenePiece   *piece;
   uint64_t      hash = (uint64_t)scene->file_fingerprint;
   unsigned char nbytes[8];
+  char          cause[64];
 
   PetscFunctionBeginUser;
   PetscCheck(scene->single_grid, scene->comm, PETSC_ERR_USER_INPUT, "scene %s: -grid %" PetscInt_FMT ": expected a scene of one rectangular piece, got %" PetscInt_FMT " pieces", scene->path, n, scene->npieces);
   PetscCheck(n >= 2, scene->comm, PETSC_ERR_USER_INPUT, "scene %s: -grid %" PetscInt_FMT ": expected an integer >= 2", scene->path, n);
   piece     = &scene->pieces[0];
   piece->nu = piece->nv = n;
+  PetscCall(PetscSNPrintf(cause, sizeof(cause), "-grid %" PetscInt_FMT, n));
+  PetscCall(SceneCheckParticleCount(scene, cause));
   PetscCall(ScenePieceResolvePins(scene->comm, scene->path, piece));
   for (int b = 0; b < 8; b++) nbytes[b] = (unsigned char)(((uint64_t)n >> (8 * b)) & 0xff); /* little-endian on every host */
   if (n != piece->grid_given[0] || n != piece->grid_given[1]) PetscCall(SceneHashBytes(&hash, nbytes, sizeof(nbytes)));
@@ -1619,17 +1754,24 @@ static PetscErrorCode SceneBodyView(const SceneBody *b, PetscViewer viewer)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+PetscErrorCode SceneGetParticleCount(Scene scene, PetscInt *n)
+{
+  PetscFunctionBeginUser;
+  *n = (PetscInt)SceneCountParticles(scene); /* fits: checked when the grids were set */
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode SceneView(Scene scene, PetscViewer viewer)
 {
   PetscBool iascii;
-  PetscInt  particles               = 0;
+  PetscInt  particles;
   char      gravity[SCENE_TEXT_LEN] = "";
 
   PetscFunctionBeginUser;
   if (!viewer) PetscCall(PetscViewerASCIIGetStdout(scene->comm, &viewer));
   PetscCall(PetscObjectTypeCompare((PetscObject)viewer, PETSCVIEWERASCII, &iascii));
   if (!iascii) PetscFunctionReturn(PETSC_SUCCESS);
-  for (PetscInt p = 0; p < scene->npieces; p++) particles += scene->pieces[p].nu * scene->pieces[p].nv;
+  PetscCall(SceneGetParticleCount(scene, &particles));
   PetscCall(PetscViewerASCIIPrintf(viewer, "Scene '%s' from %s (fingerprint %016" PRIx64 "): %" PetscInt_FMT " piece%s, %" PetscInt_FMT " particles\n", scene->name, scene->path, (uint64_t)scene->fingerprint, scene->npieces,
                                    scene->npieces == 1 ? "" : "s", particles));
   PetscCall(PetscViewerASCIIPushTab(viewer));

@@ -181,6 +181,13 @@ PetscErrorCode SceneCreateFromFile(MPI_Comm comm, const char path[], Scene *scen
    when n x n is the grid the file gives). Errors unless scene->single_grid. Not collective (every rank holds the
    same scene and must call it alike). */
 PetscErrorCode SceneSetGridSize(Scene scene, PetscInt n);
+/* The particles of all pieces (at most PETSC_MAX_INT / 3: the reader and SceneSetGridSize refuse more). */
+PetscErrorCode SceneGetParticleCount(Scene scene, PetscInt *n);
+/* The largest distance between neighbouring particles over all pieces, m, in their flat layout. */
+PetscErrorCode SceneGetLargestSpacing(Scene scene, PetscReal *spacing);
+/* The most particle spacings (SceneGetLargestSpacing) a self-collision thickness may span: layers a few spacings
+   apart are what it is for; far beyond, it throws the fabric (a 10 m thickness threw a sheet 15 m). */
+#define SCENE_SELF_COLLISION_MAX_SPACINGS 50
 /* Prints a short summary (pieces with grid and particle count, fabrics, gravity, run defaults) to an ASCII viewer
    (NULL: stdout of the scene's communicator). */
 PetscErrorCode SceneView(Scene scene, PetscViewer viewer);

@@ -1156,9 +1156,14 @@ PetscErrorCode ClothSelfContactSetFromOptions(ClothSelfContact sc)
   PetscCall(PetscOptionsBool("-self_collision_view", "Print the self-collision settings and statistics at the end", "ClothSelfContactView", sc->view, &sc->view, NULL));
   PetscOptionsEnd();
   if (sc->enabled) {
-    PetscCheck(sc->thickness > 0 && !PetscIsInfOrNanReal(sc->thickness), sc->comm, PETSC_ERR_USER_INPUT, "Self-collision needs a positive finite thickness (scene self_collision: thickness, or -self_collision_thickness), got %g m",
-               (double)sc->thickness);
-    PetscCheck(sc->stiffness > 0 && !PetscIsInfOrNanReal(sc->stiffness), sc->comm, PETSC_ERR_USER_INPUT, "Self-collision needs a positive finite stiffness (scene self_collision: stiffness, or -self_collision_stiffness), got %g N/m",
+    PetscReal spacing;
+
+    /* finite and bounded before the cell grid, whose size follows the thickness, is built */
+    PetscCall(SceneGetLargestSpacing(sc->cloth->scene, &spacing));
+    PetscCheck(sc->thickness > 0 && sc->thickness <= SCENE_SELF_COLLISION_MAX_SPACINGS * spacing, sc->comm, PETSC_ERR_USER_INPUT,
+               "Self-collision thickness (scene self_collision: thickness, or -self_collision_thickness) %g m: expected a positive number of at most %d particle spacings, %g m", (double)sc->thickness, SCENE_SELF_COLLISION_MAX_SPACINGS,
+               (double)(SCENE_SELF_COLLISION_MAX_SPACINGS * spacing));
+    PetscCheck(sc->stiffness > 0 && !PetscIsInfOrNanReal(sc->stiffness), sc->comm, PETSC_ERR_USER_INPUT, "Self-collision needs a positive, finite stiffness (scene self_collision: stiffness, or -self_collision_stiffness), got %g N/m",
                (double)sc->stiffness);
     PetscCheck(sc->exclude_ring >= 0, sc->comm, PETSC_ERR_USER_INPUT, "-self_collision_exclude_ring must not be negative, got %" PetscInt_FMT, sc->exclude_ring);
     PetscCheck(sc->min_gap > 0 && sc->min_gap < 1, sc->comm, PETSC_ERR_USER_INPUT, "-self_collision_min_gap must lie in (0, 1), got %g", (double)sc->min_gap);

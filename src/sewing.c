@@ -1,6 +1,7 @@
 /* ClothSewing (see sewing.h). */
 #include "sewing.h"
 #include "seam.h"
+#include "options.h"
 
 #define SEAM_BAND 2         /* grid rows around a seam where cloth-cloth contact is not applied while it is pulled closed */
 #define SEWING_MAX_SEAMS 64 /* seams of a scene: each is one bit of the uint64_t masks near and near_joined */
@@ -147,6 +148,7 @@ PetscErrorCode ClothSewingSetFromOptions(ClothSewing sewing)
   PetscOptionsBegin(sewing->comm, NULL, "Sewing (garment assembly)", "ClothSewing");
   PetscCall(PetscOptionsReal("-sewing_max_time", "Seconds of pulling after which gravity comes on even if pairs are still open", "ClothSewingUpdate", sewing->max_time, &sewing->max_time, NULL));
   PetscOptionsEnd();
+  PetscCall(ClothOptionsCheckReal(sewing->comm, "-sewing_max_time", sewing->max_time, 0, PETSC_FALSE, PETSC_MAX_REAL, "s"));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -1,5 +1,7 @@
 /* Small shared helpers: PETSc version compatibility and library error idioms. */
 #pragma once
+#include <errno.h>
+#include <string.h>
 #include <petscsys.h>
 
 /* PETSC_SUCCESS appeared in PETSc 3.19; Debian 12 ships 3.18. */
@@ -7,17 +9,15 @@
   #define PETSC_SUCCESS 0
 #endif
 
-/* HDF5 reports failure with a negative return value (herr_t or hid_t). */
+/* HDF5 reports failure with a negative return value (herr_t or hid_t). The OS error of the call, if any, is in
+   the message; a full disk or quota (ENOSPC, EDQUOT) is a file error (exit status 3, errors.h), not a bug. */
 #define ClothCallHDF5(call) \
   do { \
-    if ((call) < 0) SETERRQ(PETSC_COMM_SELF, PETSC_ERR_LIB, "HDF5 call failed: %s", #call); \
-  } while (0)
-
-/* METIS returns METIS_OK (= 1) on success, so it must not go through a "nonzero is an error" check. */
-#define ClothCallMETIS(call) \
-  do { \
-    int metis_status_ = (call); \
-    PetscCheck(metis_status_ == METIS_OK, PETSC_COMM_SELF, PETSC_ERR_LIB, "METIS call failed (status %d): %s", metis_status_, #call); \
+    errno = 0; \
+    if ((call) < 0) { \
+      const int os_error_ = errno; \
+      SETERRQ(PETSC_COMM_SELF, os_error_ == ENOSPC || os_error_ == EDQUOT ? PETSC_ERR_FILE_WRITE : PETSC_ERR_LIB, "HDF5 call failed: %s%s%s%s", #call, os_error_ ? " (" : "", os_error_ ? strerror(os_error_) : "", os_error_ ? ")" : ""); \
+    } \
   } while (0)
 
 /* Maximum length of names (pieces, fabrics, bodies) and paths kept in fixed buffers. */

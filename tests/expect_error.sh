@@ -1,15 +1,22 @@
 #!/bin/bash
-# Bad-input test: runs clothsim on a scene that must be refused and checks the refusal.
+# Bad-input test: runs clothsim on a scene (and options) that must be refused and checks the refusal.
 #
-#   expect_error.sh RANKS SCENE [TEXT...]
+#   expect_error.sh [--status N] RANKS SCENE [TEXT...] [-- OPTION...]
 #
-# Runs "$CLOTHSIM -scene SCENE" on RANKS ranks (mpiexec, or $MPIEXEC) and passes when it exits with a
-# non-zero code, without a crash, and its output (stdout + stderr) contains "scene SCENE" (every message names
-# the file), each TEXT given, and each "# expect: TEXT" line of SCENE (one per line, taken literally).
-# The error must be reported once, not once per rank.
+# Runs "$CLOTHSIM -scene SCENE OPTION..." on RANKS ranks (mpiexec, or $MPIEXEC) and passes when it exits with a
+# non-zero code (N when --status is given or SCENE has a line "# status: N": 2 bad input, 3 file, 4 diverged;
+# see src/errors.h), without a crash, and its output (stdout + stderr) contains each TEXT given and each
+# "# expect: TEXT" line of SCENE (one per line, taken literally). An OPTION '' stands for the empty string. Without options the message must also name "scene SCENE" (every message about a scene
+# names the file). The error must be reported once, not once per rank, as one "ERROR: " line without PETSc's
+# traceback. Unless OPTION sets -output_dir, the run writes into a fresh temporary directory.
 set -u
+status_expected=""
+if [[ ${1:-} == --status ]]; then
+  status_expected=$2
+  shift 2
+fi
 if [[ $# -lt 2 ]]; then
-  echo "usage: $0 RANKS SCENE [TEXT...]" >&2
+  echo "usage: $0 [--status N] RANKS SCENE [TEXT...] [-- OPTION...]" >&2
   exit 2
 fi
 ranks=$1
@@ -18,27 +25,51 @@ shift 2
 : "${CLOTHSIM:?set CLOTHSIM to the clothsim binary}"
 mpiexec=${MPIEXEC:-mpiexec}
 
-expected=("scene $scene" "$@")
+expected=()
+options=()
+while [[ $# -gt 0 ]]; do
+  if [[ $1 == -- ]]; then
+    shift
+    options=("$@")
+    break
+  fi
+  expected+=("$1")
+  shift
+done
+scene_only=1
+[[ ${#options[@]} -eq 0 ]] || scene_only=0
+[[ $scene_only -eq 0 ]] || expected+=("scene $scene")
+for i in "${!options[@]}"; do [[ ${options[$i]} != "''" ]] || options[$i]=""; done
 if [[ -f $scene ]]; then
   while IFS= read -r line; do expected+=("$line"); done < <(sed -n 's/^# expect: //p' "$scene")
+  [[ -n $status_expected ]] || status_expected=$(sed -n 's/^# status: //p' "$scene")
 fi
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+[[ " ${options[*]-} " == *" -output_dir "* ]] || options+=(-output_dir "$tmp/out")
 
-output=$(timeout 120 "$mpiexec" -n "$ranks" "$CLOTHSIM" -scene "$scene" 2>&1)
+output=$(timeout 120 "$mpiexec" -n "$ranks" "$CLOTHSIM" -scene "$scene" "${options[@]}" 2>&1)
 status=$?
 
 fail() {
-  echo "FAIL ($scene on $ranks rank(s), exit code $status): $1"
+  echo "FAIL ($scene ${options[*]} on $ranks rank(s), exit code $status): $1"
   echo "---- output ----"
   echo "$output"
   exit 1
 }
 
-[[ $status -ne 0 ]] || fail "clothsim accepted a bad scene"
+[[ $status -ne 0 ]] || fail "clothsim accepted a bad input"
 [[ $status -ne 124 ]] || fail "clothsim hung (killed after 120 s)"
-if grep -qE "Caught signal|Segmentation|core dumped" <<<"$output"; then fail "clothsim crashed instead of refusing the scene"; fi
+if grep -qE "Caught signal|Segmentation|core dumped" <<<"$output"; then fail "clothsim crashed instead of refusing the input"; fi
+[[ -z $status_expected || $status -eq $status_expected ]] || fail "exit status $status, expected $status_expected"
 for text in "${expected[@]}"; do
   grep -qF -- "$text" <<<"$output" || fail "the output lacks: $text"
 done
-count=$(grep -cF -- "ERROR: scene $scene" <<<"$output")
-[[ $count -eq 1 ]] || fail "the message appears $count times, expected once"
-echo "PASS: $scene refused on $ranks rank(s) with: $(grep -F -- "ERROR: scene $scene" <<<"$output")"
+if [[ $scene_only -eq 1 ]]; then
+  count=$(grep -cF -- "ERROR: scene $scene" <<<"$output")
+  [[ $count -eq 1 ]] || fail "the message appears $count times, expected once"
+fi
+count=$(grep -c "^ERROR: " <<<"$output")
+[[ $count -eq 1 ]] || fail "$count lines start with 'ERROR: ', expected one message"
+if grep -q "PETSC ERROR" <<<"$output"; then fail "PETSc's traceback was printed for a user error"; fi
+echo "PASS: $scene ${options[*]} refused on $ranks rank(s), exit $status, with: $(grep "^ERROR: " <<<"$output")"

@@ -39,5 +39,5 @@ run "$out/inf.log" -steps 3 -self_collision_thickness inf -output_dir "$out/inf"
 status=$?
 [ $status -ne 137 ] || fail "thickness inf hung (killed after 60 s)"
 [ $status -ne 0 ] || fail "thickness inf exited 0"
-grep -q 'Self-collision needs a positive finite thickness' "$out/inf.log" || { tail -20 "$out/inf.log"; fail "thickness inf: not refused"; }
+grep -q 'Self-collision thickness (scene self_collision: thickness, or -self_collision_thickness) inf m: expected a positive number' "$out/inf.log" || { tail -20 "$out/inf.log"; fail "thickness inf: not refused"; }
 echo "robustness_self_collision: 3 passed, 0 failed"

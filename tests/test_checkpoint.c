@@ -45,6 +45,9 @@ static PetscErrorCode DestroyState(Vec *position, Vec *velocity)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* The run writing the test's checkpoints (ClothCheckpointInfo.run_id); TestKeep switches it to write another run's. */
+static uint64_t TestRunId = 1;
+
 static PetscErrorCode MakeInfo(PetscInt64 step, PetscInt n, ClothCheckpointInfo *info)
 {
   PetscFunctionBeginUser;
@@ -54,6 +57,7 @@ static PetscErrorCode MakeInfo(PetscInt64 step, PetscInt n, ClothCheckpointInfo 
   info->dt                = 1.0 / 7.0;
   info->scene_fingerprint = (PetscInt64)0x1234567890abcdefLL;
   info->nparticles        = n;
+  info->run_id            = TestRunId;
   PetscCall(PetscStrncpy(info->integrator, "implicit", sizeof(info->integrator)));
   PetscCall(PetscStrncpy(info->scene_name, "test_scene", sizeof(info->scene_name)));
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -264,20 +268,24 @@ static PetscErrorCode CheckExists(MPI_Comm comm, const char dir[], const char na
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* keep = 2: only the two newest checkpoints up to the current step stay; a later one (left by an
-   earlier run that went further) is not touched. */
+/* keep = 2: only the two newest checkpoints of this run up to the current step stay; a later one (left by an
+   earlier run that went further) and an earlier one of another run sharing the directory are not touched. */
 static PetscErrorCode TestKeep(MPI_Comm comm, const char dir[], PetscInt n)
 {
   char path[CLOTH_PATH_LEN];
 
   PetscFunctionBeginUser;
   PetscCall(WriteCheckpoint(comm, dir, 99, n, 0, path, sizeof(path)));
+  TestRunId = 2;
+  PetscCall(WriteCheckpoint(comm, dir, 5, n, 0, path, sizeof(path)));
+  TestRunId = 1;
   for (PetscInt64 step = 10; step < 15; step++) PetscCall(WriteCheckpoint(comm, dir, step, n, 2, path, sizeof(path)));
   PetscCall(CheckExists(comm, dir, "checkpoint_000010.h5", PETSC_FALSE));
   PetscCall(CheckExists(comm, dir, "checkpoint_000012.h5", PETSC_FALSE));
   PetscCall(CheckExists(comm, dir, "checkpoint_000013.h5", PETSC_TRUE));
   PetscCall(CheckExists(comm, dir, "checkpoint_000014.h5", PETSC_TRUE));
   PetscCall(CheckExists(comm, dir, "checkpoint_000099.h5", PETSC_TRUE));
+  PetscCall(CheckExists(comm, dir, "checkpoint_000005.h5", PETSC_TRUE));
   PetscCall(CheckExists(comm, dir, ".checkpoint_000014.h5.tmp", PETSC_FALSE));
   PetscCall(CheckRoundTrip(comm, path, 14, n));
   PetscFunctionReturn(PETSC_SUCCESS);

@@ -46,6 +46,7 @@ static PetscErrorCode CreateTopology(ClothOutputTopology *topology, PetscInt **q
   topology->nparticles = nparticles;
   topology->nquads     = nquads;
   topology->quads      = *quads;
+  topology->run_id     = 0;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

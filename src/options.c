@@ -1,0 +1,26 @@
+/* Checks of run-time option values: see options.h. Messages with reals are formatted by snprintf: PETSc's
+   printf writes %g of 1 and inf as "1." and "inf.". */
+#include <stdio.h>
+#include "options.h"
+
+PetscErrorCode ClothOptionsCheckReal(MPI_Comm comm, const char option[], PetscReal value, PetscReal min, PetscBool min_open, PetscReal max, const char unit[])
+{
+  char      message[256], upper[64] = "";
+  PetscBool ok = (PetscIsInfOrNanReal(value) || value < min || (min_open && value == min) || value > max) ? PETSC_FALSE : PETSC_TRUE;
+
+  PetscFunctionBeginUser;
+  if (ok) PetscFunctionReturn(PETSC_SUCCESS);
+  if (max < PETSC_MAX_REAL) snprintf(upper, sizeof(upper), " and <= %g", (double)max);
+  snprintf(message, sizeof(message), "option %s %g: expected a finite number %s %g%s%s%s", option, (double)value, min_open ? ">" : ">=", (double)min, upper, unit ? " " : "", unit ? unit : "");
+  SETERRQ(comm, PETSC_ERR_USER_INPUT, "%s", message);
+}
+
+PetscErrorCode ClothOptionsCheckInt(MPI_Comm comm, const char option[], PetscInt value, PetscInt min, PetscInt max)
+{
+  char upper[64] = "";
+
+  PetscFunctionBeginUser;
+  if (value >= min && value <= max) PetscFunctionReturn(PETSC_SUCCESS);
+  if (max < PETSC_MAX_INT) PetscCall(PetscSNPrintf(upper, sizeof(upper), " and <= %" PetscInt_FMT, max));
+  SETERRQ(comm, PETSC_ERR_USER_INPUT, "option %s %" PetscInt_FMT ": expected an integer >= %" PetscInt_FMT "%s", option, value, min, upper);
+}

@@ -1,0 +1,12 @@
+/* Checks of run-time option values where they are read: every real finite and in its physical range,
+   every count within what the code can hold. Collective on comm (every rank reads the same options). */
+#pragma once
+#include <petscsys.h>
+#include "util.h"
+
+/* Errors unless value is finite and min <= value <= max (min < value when min_open). The message names
+   the option, the value, the unit (may be NULL) and the range, e.g. "-dt inf: expected a finite number
+   > 0 s". max PETSC_MAX_REAL: no upper bound. */
+PetscErrorCode ClothOptionsCheckReal(MPI_Comm comm, const char option[], PetscReal value, PetscReal min, PetscBool min_open, PetscReal max, const char unit[]);
+/* Errors unless min <= value <= max (max PETSC_MAX_INT: no upper bound), naming the option. */
+PetscErrorCode ClothOptionsCheckInt(MPI_Comm comm, const char option[], PetscInt value, PetscInt min, PetscInt max);
