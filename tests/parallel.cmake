@@ -45,3 +45,10 @@ set_tests_properties(parallel_same_physics_implicit parallel_same_physics_symple
 clothsim_add_script_test(parallel_rank_divergence_contact rank_divergence_contact.sh ${MPIEXEC_EXECUTABLE}
   ${CMAKE_BINARY_DIR}/test-output/rank_divergence_contact)
 set_tests_properties(parallel_rank_divergence_contact PROPERTIES PROCESSORS 4 TIMEOUT 180)
+
+# Two simulations side by side on the two halves of MPI_COMM_WORLD (tests/check_split_comm.sh, 2 ranks): each the
+# same as alone, bit for bit (every library object on its own communicator).
+clothsim_add_test_program(test_split_comm test_split_comm.c)
+clothsim_add_script_test(split_communicator check_split_comm.sh ${MPIEXEC_EXECUTABLE} ${CMAKE_CURRENT_BINARY_DIR}/split_communicator)
+set_property(TEST split_communicator APPEND PROPERTY ENVIRONMENT "SPLIT=$<TARGET_FILE:test_split_comm>")
+set_tests_properties(split_communicator PROPERTIES PROCESSORS 2)
