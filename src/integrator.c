@@ -1,6 +1,7 @@
 /* ClothIntegrator (see integrator.h). */
 #include "integrator.h"
 #include "preconditioner.h"
+#include "options.h"
 #include "selfcontact.h"
 #include "log.h"
 
@@ -287,6 +288,8 @@ PetscErrorCode ClothIntegratorSetFromOptions(ClothIntegrator integ)
   if (set) PetscCall(ClothIntegratorSetType(integ, type));
   PetscCall(PetscOptionsInt("-integrator_max_halvings", "How many times a failing step may be halved before the run stops", "ClothIntegratorStep", integ->max_halvings, &integ->max_halvings, NULL));
   PetscOptionsEnd();
+  /* each halving nests one recursion of StepOrHalve: 30 already means steps of dt / 1e9 */
+  PetscCall(ClothOptionsCheckInt(integ->comm, "-integrator_max_halvings", integ->max_halvings, 0, 30));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -28,6 +28,7 @@ robustness_case(dt_nan 2 2 ${sheet} "option -dt nan: expected a finite number > 
 robustness_case(dt_text 2 1 ${sheet} "Input string abc has no numeric value" -- -dt abc)
 robustness_case(grid_overflow 2 1 ${sheet} "-grid 65536: the pieces have 4294967296 particles in all: expected at most 715827882" -- -grid 65536)
 robustness_case(grid_memory 2 2 ${sheet} "the grids ('sheet' 26000 x 26000) give 676000000 particles" "GB of memory on a node" -- -grid 26000)
+robustness_case(max_halvings_negative 2 1 ${sheet} "option -integrator_max_halvings -1: expected an integer >= 0 and <= 30" -- -integrator_max_halvings -1)
 robustness_case(grid_too_small 2 1 ${sheet} "option -grid 1: expected an integer >= 2" -- -grid 1)
 robustness_case(scene_dev_zero 2 1 /dev/zero "scene /dev/zero: the file is larger than 64 MB: expected a YAML scene file")
 robustness_case(scene_directory 3 2 tests "scene tests: cannot read the file (Is a directory)")
