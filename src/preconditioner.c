@@ -2,8 +2,9 @@
 #include "preconditioner.h"
 
 /* The default preconditioner is GAMG from this many particles on, point-block Jacobi below. Measured on the hanging
-   sheet, 1 rank (docs/performance.md): GAMG takes 1.8x the wall time of point-block Jacobi at 65 x 65 (its set-up
-   costs as much as the 147 Jacobi iterations it saves), about the same at 129 x 129, 2.5x less at 257 x 257. */
+   sheet (docs/performance.md): GAMG takes 1.4x the wall time of point-block Jacobi at 65 x 65 (its set-up costs
+   about as much as the 147 Jacobi iterations it saves), about the same at 129 x 129 (0.88x on 1 rank, 1.17x on 2),
+   1.8-1.9x less at 257 x 257. */
 #define CLOTH_PC_MULTILEVEL_MIN_PARTICLES 40000
 
 /* A solve this many iterations or fewer never triggers a refresh: at such counts a ratio is noise. */
@@ -39,9 +40,9 @@ static PetscErrorCode SetDefaultOption(const char prefix[], const char name[], c
 }
 
 /* The smoother chosen by measurement (docs/performance.md): Chebyshev (symmetric, so CG applies) on point-block
-   Jacobi (a particle's 3x3 block at once), its eigenvalue bounds those of the smoothed prolongator, widened by 10 %. SOR smooths better per
-   sweep but costs two MatMults on AIJ. The threshold drops weak couplings (bending against stretch) from the
-   aggregation graph. */
+   Jacobi (a particle's 3x3 block at once), its eigenvalue bounds those of the smoothed prolongator, widened by
+   10 %. SOR smooths better per sweep but costs two MatMults on AIJ. The threshold drops weak couplings (bending
+   against stretch) from the aggregation graph. */
 static PetscErrorCode SetGAMGDefaults(KSP ksp)
 {
   const char *prefix;
