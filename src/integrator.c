@@ -19,6 +19,7 @@ struct _n_ClothIntegrator {
   ClothStepFunction step;
   PetscFunctionList steps;
   PetscInt          max_halvings;
+  PetscBool         view; /* -integrator_view: ClothIntegratorView at the end of the run */
   PetscBool         setup;
   Vec               force, saved_position, saved_velocity, start_position, start_velocity;
   ClothCollision    collision; /* borrowed; NULL: no bodies */
@@ -286,6 +287,7 @@ PetscErrorCode ClothIntegratorSetFromOptions(ClothIntegrator integ)
   PetscOptionsBegin(integ->comm, NULL, "Time integration", "ClothIntegrator");
   PetscCall(PetscOptionsFList("-integrator", "Time integrator", "ClothIntegratorSetType", integ->steps, integ->type, type, sizeof(type), &set));
   if (set) PetscCall(ClothIntegratorSetType(integ, type));
+  PetscCall(PetscOptionsBool("-integrator_view", "At the end of the run, print the integrator, its KSP and how often a multilevel preconditioner was rebuilt", "ClothIntegratorView", integ->view, &integ->view, NULL));
   PetscCall(PetscOptionsInt("-integrator_max_halvings", "How many times a failing step may be halved before the run stops", "ClothIntegratorStep", integ->max_halvings, &integ->max_halvings, NULL));
   PetscOptionsEnd();
   /* each halving nests one recursion of StepOrHalve: 30 already means steps of dt / 1e9 */
@@ -443,6 +445,8 @@ PetscErrorCode ClothIntegratorViewSystem(ClothIntegrator integ, PetscViewer view
   /* nz_used counts stored scalars (one triangle for SBAIJ): what every matrix pass streams */
   PetscCall(PetscViewerASCIIPrintf(viewer, "Implicit system: %s, %" PetscInt_FMT " stored %" PetscInt_FMT "x%" PetscInt_FMT " blocks (%.1f MiB of values), preconditioner %s\n", mtype, (PetscInt)(info.nz_used / (bs * bs)), bs, bs,
                                    info.nz_used * sizeof(PetscScalar) / 1048576.0, pctype));
+  if (integ->pre) PetscCall(ClothPreconditionerView(integ->pre, viewer));
+  if (integ->view) PetscCall(ClothIntegratorView(integ, viewer));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -481,7 +485,6 @@ PetscErrorCode ClothIntegratorView(ClothIntegrator integ, PetscViewer viewer)
   if (integ->ksp) {
     PetscCall(PetscViewerASCIIPushTab(viewer));
     PetscCall(KSPView(integ->ksp, viewer));
-    PetscCall(ClothPreconditionerView(integ->pre, viewer));
     if (integ->pc_retries) PetscCall(PetscViewerASCIIPrintf(viewer, "Solves redone with a rebuilt preconditioner after one kept from earlier steps failed: %" PetscInt_FMT "\n", integ->pc_retries));
     PetscCall(PetscViewerASCIIPopTab(viewer));
   }

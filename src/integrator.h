@@ -32,7 +32,8 @@ PetscErrorCode ClothIntegratorStep(ClothIntegrator integ, PetscReal dt, PetscBoo
    keep no state between steps. A bit-for-bit restart saves and restores it. */
 PetscErrorCode ClothIntegratorGetWarmStart(ClothIntegrator integ, Vec *dv);
 /* One line on the implicit system: matrix type, stored blocks and their memory, preconditioner (nothing for
-   explicit integrators). */
+   explicit integrators); for a multilevel preconditioner how often it was rebuilt, refreshed or kept; with
+   -integrator_view the whole ClothIntegratorView. */
 PetscErrorCode ClothIntegratorViewSystem(ClothIntegrator integ, PetscViewer viewer);
 /* The next implicit step rebuilds its preconditioner from scratch, as a run restarted at this point would: called
    after every checkpoint, so that a restart continues bit for bit. */
