@@ -20,13 +20,7 @@
 #include "checkpoint.h"
 #include "fileutil.h"
 #include "h5util.h"
-
-#ifndef CLOTHSIM_VERSION
-#define CLOTHSIM_VERSION "unknown"
-#endif
-#ifndef CLOTHSIM_GIT_REVISION
-#define CLOTHSIM_GIT_REVISION "unknown"
-#endif
+#include "provenance.h"
 
 #define CHECKPOINT_FORMAT_VERSION 2
 #define CHECKPOINT_CHECKSUM_METHOD "per dataset: xor over entries k of splitmix64(bits(value_k) ^ splitmix64(k)), k = bs*particle+component"
@@ -147,8 +141,7 @@ static PetscErrorCode CheckpointWriteAttributes(MPI_Comm comm, hid_t state, cons
   PetscCall(ClothH5AttributeWriteInt64(state, "scene_fingerprint", info->scene_fingerprint));
   PetscCall(ClothH5AttributeWriteInt64(state, "nparticles", nparticles));
   PetscCall(ClothH5AttributeWriteInt64(state, "nranks", size));
-  PetscCall(ClothH5AttributeWriteString(state, "code_version", CLOTHSIM_VERSION));
-  PetscCall(ClothH5AttributeWriteString(state, "git_revision", CLOTHSIM_GIT_REVISION));
+  PetscCall(ClothProvenanceWrite(state, info->scene));
   PetscCall(ClothH5AttributeWriteString(state, "checksum_method", CHECKPOINT_CHECKSUM_METHOD));
   PetscCall(ClothH5AttributeWriteUInt64(state, "info_checksum", CheckpointInfoChecksum(info, nparticles)));
   if (info->run_id) PetscCall(ClothH5AttributeWriteUInt64(state, "run_id", info->run_id));

@@ -8,6 +8,7 @@
 #include <stdint.h>
 #include <petscvec.h>
 #include "util.h"
+#include "scene.h"
 
 typedef struct {
   PetscInt64 step;                       /* steps taken */
@@ -20,6 +21,7 @@ typedef struct {
   char       scene_name[CLOTH_NAME_LEN];
   PetscInt64 nparticles;
   uint64_t   run_id; /* the run that wrote it (a restart continues its run); 0: none. Pruning removes only checkpoints of the writer's run */
+  Scene      scene;  /* write: the scene, whose bytes go into the file (provenance.h); NULL: only the code version */
 } ClothCheckpointInfo;
 
 /* One per-particle dataset of a checkpoint: /state/<name>, shape (N, bs) float64 in natural order,

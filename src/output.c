@@ -20,6 +20,7 @@
 #include "output.h"
 #include "fileutil.h"
 #include "h5util.h"
+#include "provenance.h"
 
 /* Per-node fields written in every frame besides the positions, as XDMF Attributes of the fabric.
    To add one: add its entry here, its Vec to ClothOutputFrame and that Vec at the same index to the
@@ -302,6 +303,7 @@ static PetscErrorCode OutputSetUpFile(ClothOutput out, const ClothOutputTopology
   } else {
     PetscCall(ClothH5FileCreate(out->comm, out->h5path, &file));
     if (topology->run_id) PetscCall(ClothH5AttributeWriteUInt64(file, "run_id", topology->run_id));
+    PetscCall(ClothProvenanceWrite(file, topology->scene)); /* what made the series; a restart appends to it */
     PetscCall(OutputWriteTopology(out, file, topology));
   }
   PetscCall(ClothH5FileClose(&file));

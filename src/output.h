@@ -7,6 +7,7 @@
 #include <stdint.h>
 #include <petscvec.h>
 #include "util.h"
+#include "scene.h"
 
 typedef struct _n_ClothOutput *ClothOutput;
 
@@ -17,6 +18,7 @@ typedef struct {
   PetscInt        nquads;
   const PetscInt *quads;
   uint64_t        run_id; /* the run writing the series (root attribute run_id); 0: none, no check */
+  Scene           scene;  /* its bytes, the code version and the options go into a new series (provenance.h); NULL: none */
 } ClothOutputTopology;
 
 /* Opens the series. If restart_time >= 0 the existing series is kept up to and including that time

@@ -200,6 +200,7 @@ static PetscErrorCode ClothRunFillCheckpointInfo(ClothRun run, ClothCheckpointIn
   info->scene_fingerprint = run->scene->fingerprint;
   info->nparticles        = nglobal;
   info->run_id            = run->run_id;
+  info->scene             = run->scene;
   PetscCall(PetscStrncpy(info->integrator, type, sizeof(info->integrator)));
   PetscCall(PetscStrncpy(info->scene_name, run->scene->name, sizeof(info->scene_name)));
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -343,6 +344,7 @@ static PetscErrorCode ClothRunOpenOutput(ClothRun run)
   topo.nquads     = model->nquads;
   topo.quads      = model->quads;
   topo.run_id     = run->run_id;
+  topo.scene      = run->scene;
   PetscCall(ClothOutputCreate(run->comm, run->output_dir, run->scene->name, &topo, run->restart[0] ? run->time : -1.0, &run->output));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -137,8 +137,8 @@ const char *const        SceneBodyTypes[]       = {"sphere", "plane", "mesh", "S
 /* The most particles a scene may have: the state vectors hold 3 coordinates per particle, indexed by PetscInt
    (32 bits in Debian's PETSc). Sizes are multiplied in 64 bits, so that a grid beyond it is named, not wrapped. */
 #define SCENE_MAX_PARTICLES ((PetscInt64)PETSC_MAX_INT / 3)
-#define SCENE_TEXT_LEN 1024           /* room for an expectation or a description in a message */
-#define SCENE_DESCRIBE_DEPTH 3        /* nested lists shown in messages (aliases may make cycles) */
+#define SCENE_TEXT_LEN 1024    /* room for an expectation or a description in a message */
+#define SCENE_DESCRIBE_DEPTH 3 /* nested lists shown in messages (aliases may make cycles) */
 #define SCENE_FNV_OFFSET UINT64_C(0xcbf29ce484222325)
 #define SCENE_FNV_PRIME UINT64_C(0x100000001b3)
 
@@ -1625,6 +1625,11 @@ PetscErrorCode SceneCreateFromFile(MPI_Comm comm, const char path[], Scene *scen
   PetscCall(SceneHashBytes(&hash, (const unsigned char *)bytes, len));
   s->file_fingerprint = s->fingerprint = (PetscInt64)hash;
   ierr                                 = SceneParse(comm, bytes, len, s);
+  if (!ierr) {
+    PetscCall(PetscMalloc1(len + 1, &s->text));
+    PetscCall(PetscArraycpy(s->text, bytes, len));
+    s->text[len] = 0;
+  }
   PetscCall(PetscFree(bytes));
   if (ierr) PetscCall(SceneDestroy(&s));
   PetscCall(ierr);
@@ -1798,6 +1803,7 @@ PetscErrorCode SceneDestroy(Scene *scene)
     for (PetscInt b = 0; b < 4; b++) PetscCall(PetscFree((*scene)->pieces[p].boundary_points[b]));
   }
   PetscCall(PetscFree((*scene)->pieces));
+  PetscCall(PetscFree((*scene)->text));
   PetscCall(PetscFree((*scene)->fabrics));
   PetscCall(PetscFree((*scene)->bodies));
   PetscCall(PetscFree((*scene)->seams));

@@ -170,6 +170,7 @@ struct _n_Scene {
   PetscInt64         fingerprint;      /* FNV-1a hash of the file bytes (mixed with -grid), kept in checkpoints */
   PetscInt64         file_fingerprint; /* FNV-1a hash of the file bytes alone */
   MPI_Comm           comm;             /* the communicator it was read on (errors from SceneSetGridSize use it) */
+  char              *text;             /* the file's bytes, NUL-terminated: kept in every output file (provenance) */
 };
 
 /* Reads and validates a scene file. Collective on comm: rank 0 reads the bytes, every rank parses

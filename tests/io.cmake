@@ -17,3 +17,8 @@ endforeach()
 # (tests/install_run.sh; README, "Installing").
 clothsim_add_script_test(install_run install_run.sh ${MPIEXEC_EXECUTABLE} ${CMAKE_CURRENT_BINARY_DIR}/install_run)
 set_tests_properties(install_run PROPERTIES TIMEOUT 120)
+
+# Provenance (tests/check_provenance.sh, 2 ranks): the series and the checkpoint carry the scene's bytes, its path,
+# the options, the code version and the build's git revision.
+clothsim_add_script_test(io_provenance check_provenance.sh ${MPIEXEC_EXECUTABLE} ${CMAKE_CURRENT_BINARY_DIR}/io_provenance)
+set_tests_properties(io_provenance PROPERTIES PROCESSORS 2)

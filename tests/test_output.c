@@ -26,6 +26,7 @@ static PetscErrorCode CreateTopology(ClothOutputTopology *topology, PetscInt **q
   PetscInt nparticles = 0, nquads = 0, q = 0;
 
   PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(topology, sizeof(*topology))); /* no run identity, no scene */
   for (PetscInt p = 0; p < 2; p++) nquads += (PieceSizes[p][0] - 1) * (PieceSizes[p][1] - 1);
   PetscCall(PetscMalloc1(4 * nquads, quads));
   for (PetscInt p = 0; p < 2; p++) {

@@ -1,0 +1,27 @@
+#!/bin/bash
+# Provenance in every HDF5 file a run writes (src/provenance.c): the series' NAME.h5 (root attributes) and the
+# checkpoint (/state attributes) carry the scene file's bytes exactly, its path, the run's options, the code version
+# and the git revision the binary was built from (the one the build wrote into generated/clothsim_revision.h).
+# Usage: check_provenance.sh MPIEXEC WORKDIR      (CLOTHSIM: the binary, CLOTHSIM_BUILD: its build directory)
+set -euo pipefail
+mpiexec=$1 work=$2
+fail() { echo "FAIL: $*"; exit 1; }
+rm -rf "$work"
+"$mpiexec" -n 2 "$CLOTHSIM" -scene input/hanging_sheet.yaml -grid 9 -steps 3 -output_dir "$work" > "$work.log" 2>&1 || { cat "$work.log"; fail "run failed"; }
+revision=$(sed -n 's/^#define CLOTHSIM_GIT_REVISION "\(.*\)"$/\1/p' "$CLOTHSIM_BUILD/generated/clothsim_revision.h")
+[ -n "$revision" ] || fail "no revision in $CLOTHSIM_BUILD/generated/clothsim_revision.h"
+/usr/bin/python3 - "$work/hanging_sheet.h5" "$work/checkpoint_000003.h5" input/hanging_sheet.yaml "$revision" <<'PY'
+import sys
+import h5py
+series, checkpoint, scene, revision = sys.argv[1:5]
+text = open(scene, "rb").read().decode()
+for path, group in ((series, "/"), (checkpoint, "/state")):
+    attrs = {k: (v.decode() if isinstance(v, bytes) else str(v)) for k, v in h5py.File(path, "r")[group].attrs.items()}
+    checks = {"scene_text": attrs.get("scene_text") == text, "scene_path": attrs.get("scene_path") == scene,
+              "git_revision": attrs.get("git_revision") == revision, "code_version": bool(attrs.get("code_version")),
+              "options": "-grid 9" in attrs.get("options", "") and "-steps 3" in attrs.get("options", "")}
+    bad = [k for k, ok in checks.items() if not ok]
+    if bad:
+        sys.exit(f"FAIL: {path}{group}: {bad} wrong or missing")
+    print(f"{path}: scene ({len(text)} bytes), options, code {attrs['code_version']}, revision {attrs['git_revision']}")
+PY
