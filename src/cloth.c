@@ -397,6 +397,49 @@ PetscErrorCode ClothGetSizes(Cloth cloth, PetscInt *nlocal, PetscInt *nglobal)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+PetscErrorCode ClothGetLayout(Cloth cloth, ClothLayout *layout)
+{
+  PetscFunctionBeginUser;
+  PetscCheck(cloth->setup, cloth->comm, PETSC_ERR_ORDER, "Set the cloth up (ClothSetUp) before asking for its layout");
+  layout->comm              = cloth->comm;
+  layout->nglobal           = cloth->nglobal;
+  layout->nlocal            = cloth->nlocal;
+  layout->nghost            = cloth->nghost;
+  layout->rstart            = cloth->rstart;
+  layout->part              = cloth->part;
+  layout->solver_of_natural = cloth->solver_of_natural;
+  layout->natural_of_local  = cloth->natural_of_local;
+  layout->xadj              = cloth->xadj;
+  layout->adjncy            = cloth->adjncy;
+  layout->nlinks            = cloth->nlinks;
+  layout->links             = cloth->links;
+  layout->fixed             = cloth->fixed;
+  layout->model             = cloth->model;
+  layout->scene             = cloth->scene;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothGetScene(Cloth cloth, Scene *scene)
+{
+  PetscFunctionBeginUser;
+  *scene = cloth->scene;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothIsSetUp(Cloth cloth, PetscBool *setup)
+{
+  PetscFunctionBeginUser;
+  *setup = cloth->setup;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothPeekContactNormals(Cloth cloth, Vec *normals)
+{
+  PetscFunctionBeginUser;
+  *normals = cloth->contact_normal;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode ClothGetInteractionCounts(Cloth cloth, PetscInt *nlinks, PetscInt *nangles)
 {
   PetscFunctionBeginUser;

@@ -71,9 +71,65 @@ PetscErrorCode ClothAssembleImplicitSystem(Cloth cloth, PetscReal h, Vec positio
 /* With exact = true the implicit system uses the exact stiffness (possibly indefinite) instead of its
    positive semidefinite part; for Jacobian tests against finite differences. */
 PetscErrorCode ClothSetExactStiffness(Cloth cloth, PetscBool exact);
-/* Cloth-cloth contacts (selfcontact.h) whose repulsion joins the forces, energies and implicit system,
-   and whose coupled blocks ClothCreateMatrix preallocates; borrowed (the caller destroys it after the
-   cloth); NULL: none. */
+/* Force contributions that plug into the cloth (docs/architecture.md, "Adding a force"). The cloth's own
+   interactions (links, angle springs, twist, seam links, gravity, damping, bodies' push) are built in; any
+   other force (cloth-cloth repulsion today) registers one ClothContribution, and the cloth then asks it, at
+   every evaluation, for its share of the forces, the energy, K v and the implicit matrix, and, when it
+   creates the matrix, for the blocks it couples beyond the interactions' pattern. A contribution reads the
+   cloth through its public accessors (ClothGetState, ClothGetLayout, ClothGetContactNormals, ...). */
+typedef struct {
+  Vec        position, velocity; /* the state evaluated (global form, solver numbering) */
+  Vec        force;              /* add the contribution's forces here (global form) */
+  Vec        kv;                 /* NULL, or add K v here (the rhs of the implicit step) */
+  Mat        A;                  /* NULL, or add h2 S K S here, S the constraint filter (ClothContactFilter) */
+  PetscReal  h2;                 /* h^2 of the implicit step */
+  PetscBool  psd;                /* the stiffness added to A must be positive semidefinite */
+  PetscReal *energy;             /* NULL, or add the contribution's energy (this rank's part) here */
+} ClothContributionArgs;
+typedef struct {
+  const char *name; /* for messages */
+  void       *ctx;  /* the contribution's object; identifies it in ClothRemoveContribution */
+  /* Adds forces and what else args asks for. Collective. */
+  PetscErrorCode (*add)(void *ctx, const ClothContributionArgs *args);
+  /* Adds, per owned particle (row), the 3x3 blocks coupled beyond the interactions' pattern: diagonal / off-diagonal
+     part of the matrix, and of them those above the diagonal. May be NULL. Not collective. */
+  PetscErrorCode (*count_row_blocks)(void *ctx, PetscInt dnnz[], PetscInt onnz[], PetscInt dnnzu[], PetscInt onnzu[]);
+} ClothContribution;
+#define CLOTH_MAX_CONTRIBUTIONS 8
+/* Registers a contribution (copied); at most CLOTH_MAX_CONTRIBUTIONS. Matrices created before do not have its
+   blocks: register before ClothCreateMatrix. Not collective, but every rank registers the same ones. */
+PetscErrorCode ClothAddContribution(Cloth cloth, const ClothContribution *contribution);
+/* Unregisters the contribution whose ctx this is (no-op when none). */
+PetscErrorCode ClothRemoveContribution(Cloth cloth, void *ctx);
+
+/* The distribution of the particles, read-only and borrowed, for contributions and other modules built on the
+   cloth. Solver numbering: each rank owns [rstart, rstart + nlocal); local numbering: owned then ghosts. */
+typedef struct {
+  MPI_Comm          comm;
+  PetscInt          nglobal, nlocal, nghost, rstart;
+  const PetscInt   *part;              /* natural -> owning rank */
+  const PetscInt   *solver_of_natural; /* natural -> solver index */
+  const PetscInt   *natural_of_local;  /* local -> natural */
+  const PetscInt   *xadj, *adjncy;     /* the interaction graph in natural order (CSR, sorted neighbours) */
+  PetscInt          nlinks;            /* the links this rank evaluates, in local particle numbers */
+  const ClothLink  *links;
+  const PetscBool  *fixed;             /* local: pinned particles */
+  ClothModel        model;
+  Scene             scene;
+} ClothLayout;
+/* After ClothSetUp. */
+PetscErrorCode ClothGetLayout(Cloth cloth, ClothLayout *layout);
+/* The scene the cloth was created from (borrowed). */
+PetscErrorCode ClothGetScene(Cloth cloth, Scene *scene);
+/* Whether ClothSetUp has run. */
+PetscErrorCode ClothIsSetUp(Cloth cloth, PetscBool *setup);
+/* The contact normals if any particle was ever constrained by a body contact (else NULL; ClothGetContactNormals
+   creates them). Borrowed. */
+PetscErrorCode ClothPeekContactNormals(Cloth cloth, Vec *normals);
+
+/* The cloth-cloth contacts (selfcontact.h) whose searches and velocity impulses the integrator applies around each
+   step; borrowed (the caller destroys it after the cloth); NULL: none. Their forces join through their
+   ClothContribution (ClothSelfContactGetContribution). */
 PetscErrorCode ClothSetSelfContact(Cloth cloth, ClothSelfContact sc);
 PetscErrorCode ClothGetSelfContact(Cloth cloth, ClothSelfContact *sc);
 /* A symmetric block (bs 3, BAIJ; -implicit_mat_type sbaij stores only the upper triangle) matrix with exactly the

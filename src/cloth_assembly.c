@@ -1,7 +1,6 @@
 /* Cloth: forces, implicit system and energies (see cloth.h). One loop over this rank's interactions
    serves them all, so forces and stiffness always come from the same element evaluation. */
 #include "cloth_impl.h"
-#include "selfcontact.h"
 #include "log.h"
 
 /* the largest element: cell shear springs (CLOTH_ANGLE_MAX_PARTICLES) and interpolated seam links (CLOTH_SEAM_LINK_MAX_PARTICLES) */
@@ -198,6 +197,16 @@ static PetscErrorCode AddBodyForces(Cloth cloth, const PetscScalar *v, PetscScal
 
 /* Evaluates the interactions with ghosts refreshed before and force (and kv) summed back after;
    then adds the body forces. */
+/* Asks every plugged-in contribution (cloth.h) for its share of what the evaluation wants. */
+static PetscErrorCode AddContributions(Cloth cloth, Vec position, Vec velocity, Vec force, Vec kv, ClothEvaluation *ev)
+{
+  ClothContributionArgs args = {position, velocity, force, kv, ev->A, ev->h2, ev->psd, ev->energy_wanted ? &ev->energy : NULL};
+
+  PetscFunctionBeginUser;
+  for (PetscInt c = 0; c < cloth->ncontributions; c++) PetscCall(cloth->contributions[c].add(cloth->contributions[c].ctx, &args));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 static PetscErrorCode ClothEvaluate(Cloth cloth, Vec position, Vec velocity, Vec force, Vec kv, ClothEvaluation *ev)
 {
   Vec                xl, vl, fl, kvl = NULL;
@@ -236,8 +245,8 @@ static PetscErrorCode ClothEvaluate(Cloth cloth, Vec position, Vec velocity, Vec
   PetscCall(VecGhostRestoreLocalForm(position, &xl));
   PetscCall(GhostSumBack(force));
   if (kv) PetscCall(GhostSumBack(kv));
-  /* cloth-cloth repulsion: its elements reach particles of other ranks that are not ghosts */
-  if (cloth->self_contact) PetscCall(ClothSelfContactAddForces_Private(cloth->self_contact, position, velocity, force, kv, ev->A, ev->h2, ev->psd, ev->energy_wanted ? &ev->energy : NULL));
+  /* plugged-in forces (cloth-cloth repulsion: its elements reach particles of other ranks that are not ghosts) */
+  PetscCall(AddContributions(cloth, position, velocity, force, kv, ev));
   PetscCall(VecGetArrayRead(velocity, &v));
   PetscCall(VecGetArray(force, &f));
   PetscCall(AddBodyForces(cloth, v, f));
@@ -419,7 +428,8 @@ PetscErrorCode ClothCreateMatrix(Cloth cloth, Mat *A)
   PetscCall(MatSetFromOptions(*A));
   PetscCall(PetscMalloc4(cloth->nlocal, &dnnz, cloth->nlocal, &onnz, cloth->nlocal, &dnnzu, cloth->nlocal, &onnzu));
   PetscCall(CountRowBlocks(cloth, dnnz, onnz, dnnzu, onnzu));
-  if (cloth->self_contact) PetscCall(ClothSelfContactCountRowBlocks_Private(cloth->self_contact, dnnz, onnz, dnnzu, onnzu));
+  for (PetscInt c = 0; c < cloth->ncontributions; c++)
+    if (cloth->contributions[c].count_row_blocks) PetscCall(cloth->contributions[c].count_row_blocks(cloth->contributions[c].ctx, dnnz, onnz, dnnzu, onnzu));
   PetscCall(MatXAIJSetPreallocation(*A, 3, dnnz, onnz, dnnzu, onnzu));
   PetscCall(PetscFree4(dnnz, onnz, dnnzu, onnzu));
   PetscCall(VecGetLocalToGlobalMapping(cloth->position, &l2g));
@@ -446,6 +456,26 @@ PetscErrorCode ClothSetSelfContact(Cloth cloth, ClothSelfContact sc)
 {
   PetscFunctionBeginUser;
   cloth->self_contact = sc;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothAddContribution(Cloth cloth, const ClothContribution *contribution)
+{
+  PetscFunctionBeginUser;
+  PetscCheck(contribution->add, PETSC_COMM_SELF, PETSC_ERR_ARG_NULL, "Contribution '%s' has no add function", contribution->name);
+  PetscCheck(cloth->ncontributions < CLOTH_MAX_CONTRIBUTIONS, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "Contribution '%s': the cloth takes at most %d", contribution->name, CLOTH_MAX_CONTRIBUTIONS);
+  cloth->contributions[cloth->ncontributions++] = *contribution;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothRemoveContribution(Cloth cloth, void *ctx)
+{
+  PetscInt kept = 0;
+
+  PetscFunctionBeginUser;
+  for (PetscInt c = 0; c < cloth->ncontributions; c++)
+    if (cloth->contributions[c].ctx != ctx) cloth->contributions[kept++] = cloth->contributions[c];
+  cloth->ncontributions = kept;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -40,7 +40,9 @@ struct _n_Cloth {
   Vec contact_normal;                          /* ghosted, bs 3: unit normal of each particle's contact constraint, 0 when free
                                                   (created by ClothGetContactNormals; NULL: no contacts) */
   PetscReal                  *slider_saved[2]; /* cos0, sin0 of the friction elements, per save slot (ClothHysteresisSave) */
-  struct _n_ClothSelfContact *self_contact;    /* cloth-cloth contacts (selfcontact.h; borrowed, NULL: off) */
+  struct _n_ClothSelfContact *self_contact;    /* cloth-cloth contacts whose updates the integrator applies (borrowed, NULL: off) */
+  ClothContribution           contributions[CLOTH_MAX_CONTRIBUTIONS]; /* plugged-in forces (cloth.h) */
+  PetscInt                    ncontributions;
   Vec                         natural;         /* template for natural-order Vecs */
   VecScatter                  to_natural;
 };

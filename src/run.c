@@ -435,8 +435,12 @@ PetscErrorCode ClothRunSetUp(ClothRun run)
     PetscBool self_collision;
     PetscCall(ClothSelfContactGetEnabled(run->self_contact, &self_collision));
     if (self_collision) { /* before the integrator creates the matrix, which holds the contacts' blocks */
+      ClothContribution repulsion;
+
       PetscCall(ClothSelfContactSetUp(run->self_contact));
       PetscCall(ClothSetSelfContact(run->cloth, run->self_contact));
+      PetscCall(ClothSelfContactGetContribution(run->self_contact, &repulsion));
+      PetscCall(ClothAddContribution(run->cloth, &repulsion));
     }
   }
   PetscCall(ClothCreateNaturalVec(run->cloth, &run->natural_position));

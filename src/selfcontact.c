@@ -7,7 +7,6 @@
    barycentric weights and inverse masses, iterated Gauss-Seidel sweeps). */
 #include "selfcontact.h"
 #include "cellgrid.h"
-#include "cloth_impl.h"
 #include "geometry.h"
 #include "log.h"
 #include "vec3.h"
@@ -15,7 +14,10 @@
 #define SELF_CONTACT_NP 4 /* particles of a contact element */
 
 struct _n_ClothSelfContact {
-  Cloth                     cloth;
+  Cloth                     cloth;    /* borrowed; read through its public accessors only */
+  Scene                     scene;
+  ClothLayout               layout;   /* the cloth's particle distribution (after set-up) */
+  Vec                       position, velocity; /* the cloth's state (borrowed) */
   MPI_Comm                  comm;
   PetscMPIInt               size, rank;
   PetscBool                 enabled, view, setup;
@@ -229,7 +231,7 @@ static PetscErrorCode Excluded(ClothSelfContact sc, const PetscInt pa[], PetscIn
 static void OwnedBox(ClothSelfContact sc, const PetscScalar x[], PetscReal box[6])
 {
   for (PetscInt c = 0; c < 3; c++) box[c] = PETSC_MAX_REAL, box[3 + c] = -PETSC_MAX_REAL;
-  for (PetscInt i = 0; i < sc->cloth->nlocal; i++)
+  for (PetscInt i = 0; i < sc->layout.nlocal; i++)
     for (PetscInt c = 0; c < 3; c++) {
       box[c]     = PetscMin(box[c], PetscRealPart(x[3 * i + c]));
       box[3 + c] = PetscMax(box[3 + c], PetscRealPart(x[3 * i + c]));
@@ -240,7 +242,7 @@ static void OwnedBox(ClothSelfContact sc, const PetscScalar x[], PetscReal box[6
    natural indices received, grouped by sender (MPI_Allgather of boxes, MPI_Alltoallv of indices). */
 static PetscErrorCode ExchangeNearParticles(ClothSelfContact sc, const PetscScalar x[], PetscReal margin, PetscInt *nrecv, PetscInt **recv)
 {
-  const Cloth  cloth = sc->cloth;
+  const ClothLayout *layout = &sc->layout;
   PetscReal    mybox[6], *boxes;
   PetscMPIInt *scount, *rcount, *sdispl, *rdispl;
   PetscInt    *send, nsend = 0;
@@ -250,17 +252,17 @@ static PetscErrorCode ExchangeNearParticles(ClothSelfContact sc, const PetscScal
   PetscCall(PetscMalloc1(6 * sc->size, &boxes));
   PetscCallMPI(MPI_Allgather(mybox, 6, MPIU_REAL, boxes, 6, MPIU_REAL, sc->comm));
   PetscCall(PetscCalloc4(sc->size, &scount, sc->size, &rcount, sc->size + 1, &sdispl, sc->size + 1, &rdispl));
-  PetscCall(PetscMalloc1(cloth->nlocal * (sc->size - 1) + 1, &send));
+  PetscCall(PetscMalloc1(layout->nlocal * (sc->size - 1) + 1, &send));
   for (PetscMPIInt r = 0; r < sc->size; r++) {
     sdispl[r] = (PetscMPIInt)nsend;
     if (r == sc->rank) continue;
-    for (PetscInt i = 0; i < cloth->nlocal; i++) {
+    for (PetscInt i = 0; i < layout->nlocal; i++) {
       PetscBool inside = PETSC_TRUE;
       for (PetscInt c = 0; c < 3 && inside; c++) {
         const PetscReal v = PetscRealPart(x[3 * i + c]);
         if (v < boxes[6 * r + c] - margin || v > boxes[6 * r + 3 + c] + margin) inside = PETSC_FALSE;
       }
-      if (inside) send[nsend++] = cloth->natural_of_local[i];
+      if (inside) send[nsend++] = layout->natural_of_local[i];
     }
     scount[r] = (PetscMPIInt)(nsend - sdispl[r]);
   }
@@ -278,7 +280,7 @@ static PetscErrorCode ExchangeNearParticles(ClothSelfContact sc, const PetscScal
 /* The scatter from the cloth's state to the remote particles, rebuilt when the set changes. */
 static PetscErrorCode SetRemoteParticles(ClothSelfContact sc, PetscInt nrecv, PetscInt *recv)
 {
-  const Cloth cloth = sc->cloth;
+  const ClothLayout *layout = &sc->layout;
   PetscBool   same  = (sc->remote_scatter && nrecv == sc->nremote) ? PETSC_TRUE : PETSC_FALSE, all_same;
   PetscInt   *solver;
   IS          from;
@@ -307,9 +309,9 @@ static PetscErrorCode SetRemoteParticles(ClothSelfContact sc, PetscInt nrecv, Pe
   PetscCall(VecDuplicate(sc->xremote, &sc->kvremote));
   PetscCall(VecDuplicate(sc->xremote, &sc->bremote));
   PetscCall(PetscMalloc1(nrecv + 1, &solver));
-  for (PetscInt k = 0; k < nrecv; k++) solver[k] = cloth->solver_of_natural[recv[k]];
+  for (PetscInt k = 0; k < nrecv; k++) solver[k] = layout->solver_of_natural[recv[k]];
   PetscCall(ISCreateBlock(PETSC_COMM_SELF, 3, nrecv, solver, PETSC_OWN_POINTER, &from));
-  PetscCall(VecScatterCreate(cloth->position, from, sc->xremote, NULL, &sc->remote_scatter));
+  PetscCall(VecScatterCreate(sc->position, from, sc->xremote, NULL, &sc->remote_scatter));
   PetscCall(ISDestroy(&from));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -335,13 +337,13 @@ static PetscErrorCode SumRemoteInto(ClothSelfContact sc, Vec remote, Vec global)
    owned particles, then the remote ones. */
 static PetscErrorCode GatherContactLocal(ClothSelfContact sc, const PetscScalar x[], Vec velocity, PetscReal h)
 {
-  const Cloth        cloth = sc->cloth;
-  const PetscInt     n     = cloth->nlocal + sc->nremote;
+  const ClothLayout *layout = &sc->layout;
+  const PetscInt     n     = layout->nlocal + sc->nremote;
   const PetscScalar *xr, *v = NULL, *vr = NULL;
 
   PetscFunctionBeginUser;
   if (sc->natural_of)
-    for (PetscInt k = 0; k < cloth->nlocal + sc->nremote_prev; k++) sc->contact_index[sc->natural_of[k]] = -1;
+    for (PetscInt k = 0; k < layout->nlocal + sc->nremote_prev; k++) sc->contact_index[sc->natural_of[k]] = -1;
   PetscCall(PetscFree(sc->natural_of));
   PetscCall(PetscFree2(sc->x, sc->dx));
   PetscCall(PetscMalloc1(n + 1, &sc->natural_of));
@@ -351,14 +353,14 @@ static PetscErrorCode GatherContactLocal(ClothSelfContact sc, const PetscScalar 
     PetscCall(VecGetArrayRead(velocity, &v));
     PetscCall(VecGetArrayRead(sc->vremote, &vr));
   }
-  PetscCall(RefreshRemote(sc, cloth->position, sc->xremote));
+  PetscCall(RefreshRemote(sc, sc->position, sc->xremote));
   PetscCall(VecGetArrayRead(sc->xremote, &xr));
   for (PetscInt k = 0; k < n; k++) {
-    const PetscBool owned = k < cloth->nlocal ? PETSC_TRUE : PETSC_FALSE;
-    sc->natural_of[k]     = owned ? cloth->natural_of_local[k] : sc->remote_natural[k - cloth->nlocal];
-    for (PetscInt c = 0; c < 3; c++) sc->x[3 * k + c] = PetscRealPart(owned ? x[3 * k + c] : xr[3 * (k - cloth->nlocal) + c]);
+    const PetscBool owned = k < layout->nlocal ? PETSC_TRUE : PETSC_FALSE;
+    sc->natural_of[k]     = owned ? layout->natural_of_local[k] : sc->remote_natural[k - layout->nlocal];
+    for (PetscInt c = 0; c < 3; c++) sc->x[3 * k + c] = PetscRealPart(owned ? x[3 * k + c] : xr[3 * (k - layout->nlocal) + c]);
     if (v)
-      for (PetscInt c = 0; c < 3; c++) sc->dx[3 * k + c] = h * PetscRealPart(owned ? v[3 * k + c] : vr[3 * (k - cloth->nlocal) + c]);
+      for (PetscInt c = 0; c < 3; c++) sc->dx[3 * k + c] = h * PetscRealPart(owned ? v[3 * k + c] : vr[3 * (k - layout->nlocal) + c]);
     sc->contact_index[sc->natural_of[k]] = k;
   }
   sc->nremote_prev = sc->nremote;
@@ -398,12 +400,12 @@ static PetscErrorCode AppendContact(ClothSelfContact sc, const ClothContact *con
    inflate; also the longest edge among them. */
 static PetscErrorCode CollectPrimitives(ClothSelfContact sc, PetscInt nv, const PetscInt prim[], const PetscInt start[], const PetscInt of[], PetscInt mark[], PetscReal inflate, PetscInt *n, PetscInt **list, PetscReal **boxes, PetscReal *longest)
 {
-  const PetscInt nparticles = sc->cloth->nlocal + sc->nremote;
+  const PetscInt nparticles = sc->layout.nlocal + sc->nremote;
 
   PetscFunctionBeginUser;
   *n = 0;
   sc->visit++;
-  PetscCall(PetscMalloc1(start[sc->cloth->nglobal] + 1, list));
+  PetscCall(PetscMalloc1(start[sc->layout.nglobal] + 1, list));
   for (PetscInt k = 0; k < nparticles; k++) {
     const PetscInt g = sc->natural_of[k];
     for (PetscInt q = start[g]; q < start[g + 1]; q++) {
@@ -437,7 +439,7 @@ static PetscErrorCode CollectPrimitives(ClothSelfContact sc, PetscInt nv, const 
    the region the cell grids cover. */
 static void ContactRegion(ClothSelfContact sc, PetscReal inflate, PetscReal region[6])
 {
-  const PetscInt n = sc->cloth->nlocal + sc->nremote;
+  const PetscInt n = sc->layout.nlocal + sc->nremote;
 
   for (PetscInt c = 0; c < 3; c++) region[c] = PETSC_MAX_REAL, region[3 + c] = -PETSC_MAX_REAL;
   for (PetscInt k = 0; k < n; k++)
@@ -453,7 +455,7 @@ static void ContactRegion(ClothSelfContact sc, PetscReal inflate, PetscReal regi
    whatever the spread of the region (cells grow instead). */
 static PetscInt SelfContactMaxCells(ClothSelfContact sc)
 {
-  return 8 * (sc->cloth->nlocal + sc->nremote) + 64;
+  return 8 * (sc->layout.nlocal + sc->nremote) + 64;
 }
 
 /* Is the state the search sees finite? Collective. *nonfinite: the lowest natural index of a particle
@@ -462,7 +464,7 @@ static PetscInt SelfContactMaxCells(ClothSelfContact sc)
    lowest natural index of a particle reaching farthest from the origin, *reach (-1: the region is finite). */
 static PetscErrorCode CheckSearchFinite(ClothSelfContact sc, const PetscReal region[6], PetscInt *nonfinite, PetscInt *farthest, PetscReal *reach)
 {
-  const PetscInt n        = sc->cloth->nlocal + sc->nremote;
+  const PetscInt n        = sc->layout.nlocal + sc->nremote;
   PetscInt       local[2] = {PETSC_MAX_INT, 1}, global[2], candidate = PETSC_MAX_INT; /* {lowest non-finite particle, region finite} */
   PetscReal      far = 0;
 
@@ -503,7 +505,7 @@ static PetscErrorCode FindPointTriangle(ClothSelfContact sc, PetscReal radius, c
   PetscFunctionBeginUser;
   PetscCall(CellGridBuild(g, region, region + 3, cell, SelfContactMaxCells(sc), ntri, boxes, boxes + 3, 6));
   CellGridGetCells(g, n, &start, &item);
-  for (PetscInt k = 0; k < sc->cloth->nlocal; k++) {
+  for (PetscInt k = 0; k < sc->layout.nlocal; k++) {
     const PetscReal *p = &sc->x[3 * k], *dp = &sc->dx[3 * k];
     PetscReal        pbox[6];
     PetscInt         lo[3], hi[3];
@@ -551,7 +553,7 @@ static PetscBool CellOwnsPair(const PetscInt low_cell[], PetscInt a, PetscInt b,
 
 static PetscBool EdgeHasOwned(ClothSelfContact sc, PetscInt e)
 {
-  return (sc->contact_index[sc->edge[2 * e]] < sc->cloth->nlocal || sc->contact_index[sc->edge[2 * e + 1]] < sc->cloth->nlocal) ? PETSC_TRUE : PETSC_FALSE;
+  return (sc->contact_index[sc->edge[2 * e]] < sc->layout.nlocal || sc->contact_index[sc->edge[2 * e + 1]] < sc->layout.nlocal) ? PETSC_TRUE : PETSC_FALSE;
 }
 
 /* Is this rank the one that handles the edge-edge contact of edges e1 and e2 (particles p)? Any owner
@@ -560,7 +562,7 @@ static PetscBool EdgeHasOwned(ClothSelfContact sc, PetscInt e)
    by two ranks over both, where "the lowest particle" would give them all to one. */
 static PetscBool HandlesEdgePair(ClothSelfContact sc, PetscInt e1, PetscInt e2, const PetscInt p[4])
 {
-  return sc->cloth->part[p[(e1 + e2) % 4]] == sc->rank ? PETSC_TRUE : PETSC_FALSE;
+  return sc->layout.part[p[(e1 + e2) % 4]] == sc->rank ? PETSC_TRUE : PETSC_FALSE;
 }
 
 /* Every edge with an owned particle against the edges in the cells its box touches. */
@@ -610,26 +612,26 @@ static PetscErrorCode FindEdgeEdge(ClothSelfContact sc, PetscReal radius, const 
    diagonal is at most two sides). Collective. */
 static PetscErrorCode LongestLink(ClothSelfContact sc, PetscReal *longest)
 {
-  const Cloth        cloth = sc->cloth;
+  const ClothLayout *layout = &sc->layout;
   Vec                xl;
   const PetscScalar *x;
   PetscReal          local = 0;
 
   PetscFunctionBeginUser;
-  PetscCall(VecGhostUpdateBegin(cloth->position, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(VecGhostUpdateEnd(cloth->position, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(VecGhostGetLocalForm(cloth->position, &xl));
+  PetscCall(VecGhostUpdateBegin(sc->position, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecGhostUpdateEnd(sc->position, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecGhostGetLocalForm(sc->position, &xl));
   PetscCall(VecGetArrayRead(xl, &x));
-  for (PetscInt l = 0; l < cloth->nlinks; l++) {
-    const PetscInt     g0 = cloth->natural_of_local[cloth->links[l].p[0]], g1 = cloth->natural_of_local[cloth->links[l].p[1]];
-    const PetscScalar *a = &x[3 * cloth->links[l].p[0]], *b = &x[3 * cloth->links[l].p[1]];
+  for (PetscInt l = 0; l < layout->nlinks; l++) {
+    const PetscInt     g0 = layout->natural_of_local[layout->links[l].p[0]], g1 = layout->natural_of_local[layout->links[l].p[1]];
+    const PetscScalar *a = &x[3 * layout->links[l].p[0]], *b = &x[3 * layout->links[l].p[1]];
     PetscReal          d2 = 0;
     if (sc->piece_of[g0] != sc->piece_of[g1] || PetscMax(PetscAbsInt(sc->grid_i[g0] - sc->grid_i[g1]), PetscAbsInt(sc->grid_j[g0] - sc->grid_j[g1])) != 1) continue; /* bending links, seams */
     for (PetscInt c = 0; c < 3; c++) d2 += PetscSqr(PetscRealPart(a[c] - b[c]));
     local = PetscMax(local, d2);
   }
   PetscCall(VecRestoreArrayRead(xl, &x));
-  PetscCall(VecGhostRestoreLocalForm(cloth->position, &xl));
+  PetscCall(VecGhostRestoreLocalForm(sc->position, &xl));
   PetscCallMPI(MPI_Allreduce(&local, longest, 1, MPIU_REAL, MPIU_MAX, sc->comm));
   *longest = PetscSqrtReal(*longest);
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -643,7 +645,7 @@ static PetscErrorCode MaxSpeed(ClothSelfContact sc, Vec velocity, PetscReal *vma
 
   PetscFunctionBeginUser;
   PetscCall(VecGetArrayRead(velocity, &v));
-  for (PetscInt i = 0; i < sc->cloth->nlocal; i++) local = PetscMax(local, PetscRealPart(v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] + v[3 * i + 2] * v[3 * i + 2]));
+  for (PetscInt i = 0; i < sc->layout.nlocal; i++) local = PetscMax(local, PetscRealPart(v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] + v[3 * i + 2] * v[3 * i + 2]));
   PetscCall(VecRestoreArrayRead(velocity, &v));
   PetscCallMPI(MPI_Allreduce(&local, vmax, 1, MPIU_REAL, MPIU_MAX, sc->comm));
   *vmax = PetscSqrtReal(*vmax);
@@ -662,13 +664,13 @@ static PetscErrorCode Search(ClothSelfContact sc, PetscReal radius, Vec velocity
   PetscFunctionBeginUser;
   PetscCall(LongestLink(sc, &link));
   if (velocity) PetscCall(MaxSpeed(sc, velocity, &vmax));
-  PetscCall(VecGetArrayRead(sc->cloth->position, &x));
+  PetscCall(VecGetArrayRead(sc->position, &x));
   /* a contact's handler owns one of its particles; the others lie within radius + 2 triangle edges
      + the travel of two particles */
   PetscCall(ExchangeNearParticles(sc, x, radius + 4 * link + 2 * h * vmax, &nrecv, &recv));
   PetscCall(SetRemoteParticles(sc, nrecv, recv));
   PetscCall(GatherContactLocal(sc, x, velocity, h));
-  PetscCall(VecRestoreArrayRead(sc->cloth->position, &x));
+  PetscCall(VecRestoreArrayRead(sc->position, &x));
   sc->ncontacts = 0;
   ContactRegion(sc, radius, region);
   PetscCall(CheckSearchFinite(sc, region, &nonfinite, &farthest, &reach));
@@ -697,11 +699,11 @@ static PetscErrorCode Search(ClothSelfContact sc, PetscReal radius, Vec velocity
 /* ------------------------------------------------------------------------------------------------ */
 /* Matrix pattern                                                                                   */
 
-static PetscBool StaticallyCoupled(Cloth cloth, PetscInt a, PetscInt b)
+static PetscBool StaticallyCoupled(const ClothLayout *layout, PetscInt a, PetscInt b)
 {
   PetscInt loc;
 
-  if (PetscFindInt(b, cloth->xadj[a + 1] - cloth->xadj[a], &cloth->adjncy[cloth->xadj[a]], &loc)) return PETSC_FALSE;
+  if (PetscFindInt(b, layout->xadj[a + 1] - layout->xadj[a], &layout->adjncy[layout->xadj[a]], &loc)) return PETSC_FALSE;
   return loc >= 0 ? PETSC_TRUE : PETSC_FALSE;
 }
 
@@ -709,8 +711,8 @@ static PetscBool StaticallyCoupled(Cloth cloth, PetscInt a, PetscInt b)
    static pattern, sent to the owners of the rows; sorted, without duplicates. Collective. */
 static PetscErrorCode ContactBlocks(ClothSelfContact sc, PetscInt *nkeys, PetscInt64 **keys)
 {
-  const Cloth      cloth = sc->cloth;
-  const PetscInt64 N     = cloth->nglobal;
+  const ClothLayout *layout = &sc->layout;
+  const PetscInt64 N     = layout->nglobal;
   PetscMPIInt     *scount, *rcount, *sdispl, *rdispl;
   PetscInt64      *send, *recv;
   PetscInt         nsend = 0, n = 0, *dest;
@@ -722,10 +724,10 @@ static PetscErrorCode ContactBlocks(ClothSelfContact sc, PetscInt *nkeys, PetscI
     for (PetscInt j = 0; j < SELF_CONTACT_NP; j++)
       for (PetscInt k = 0; k < SELF_CONTACT_NP; k++) {
         const PetscInt a = sc->contacts[c].p[j], b = sc->contacts[c].p[k];
-        if (j == k || StaticallyCoupled(cloth, a, b)) continue;
-        send[nsend]   = cloth->solver_of_natural[a] * N + cloth->solver_of_natural[b];
-        dest[nsend++] = cloth->part[a];
-        scount[cloth->part[a]]++;
+        if (j == k || StaticallyCoupled(layout, a, b)) continue;
+        send[nsend]   = layout->solver_of_natural[a] * N + layout->solver_of_natural[b];
+        dest[nsend++] = layout->part[a];
+        scount[layout->part[a]]++;
       }
   for (PetscMPIInt r = 0; r < sc->size; r++) sdispl[r + 1] = sdispl[r] + scount[r];
   {
@@ -790,16 +792,18 @@ static PetscErrorCode UpdatePattern(ClothSelfContact sc, PetscBool *changed)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode ClothSelfContactCountRowBlocks_Private(ClothSelfContact sc, PetscInt dnnz[], PetscInt onnz[], PetscInt dnnzu[], PetscInt onnzu[])
+/* The contribution's count_row_blocks (cloth.h): the blocks the contacts couple beyond the static pattern. */
+static PetscErrorCode CountRowBlocks(void *ctx, PetscInt dnnz[], PetscInt onnz[], PetscInt dnnzu[], PetscInt onnzu[])
 {
-  const Cloth      cloth = sc->cloth;
-  const PetscInt64 N     = cloth->nglobal;
+  const ClothSelfContact sc = (ClothSelfContact)ctx;
+  const ClothLayout *layout = &sc->layout;
+  const PetscInt64 N     = layout->nglobal;
 
   PetscFunctionBeginUser;
   for (PetscInt k = 0; k < sc->nextra; k++) {
-    const PetscInt  row = (PetscInt)(sc->extra[k] / N), col = (PetscInt)(sc->extra[k] % N), i = row - cloth->rstart;
-    const PetscBool owned = (col >= cloth->rstart && col < cloth->rstart + cloth->nlocal) ? PETSC_TRUE : PETSC_FALSE;
-    PetscCheck(i >= 0 && i < cloth->nlocal, PETSC_COMM_SELF, PETSC_ERR_PLIB, "Contact block row %" PetscInt_FMT " is not owned", row);
+    const PetscInt  row = (PetscInt)(sc->extra[k] / N), col = (PetscInt)(sc->extra[k] % N), i = row - layout->rstart;
+    const PetscBool owned = (col >= layout->rstart && col < layout->rstart + layout->nlocal) ? PETSC_TRUE : PETSC_FALSE;
+    PetscCheck(i >= 0 && i < layout->nlocal, PETSC_COMM_SELF, PETSC_ERR_PLIB, "Contact block row %" PetscInt_FMT " is not owned", row);
     if (owned)
       dnnz[i]++;
     else
@@ -820,7 +824,7 @@ PetscErrorCode ClothSelfContactCountRowBlocks_Private(ClothSelfContact sc, Petsc
 /* Contact-local particle k's 3-vector in the owned array or the remote one. */
 static inline PetscScalar *At(ClothSelfContact sc, PetscScalar *owned, PetscScalar *remote, PetscInt k)
 {
-  return k < sc->cloth->nlocal ? &owned[3 * k] : &remote[3 * (k - sc->cloth->nlocal)];
+  return k < sc->layout.nlocal ? &owned[3 * k] : &remote[3 * (k - sc->layout.nlocal)];
 }
 
 /* Energy, force on the separation r (as on the particle side) and its 3x3 stiffness, from the link
@@ -843,11 +847,12 @@ static PetscErrorCode RepulsionEvaluate(ClothSelfContact sc, const PetscReal r[3
    body contact constraint b; NULL: free). */
 static void ParticleFilter(ClothSelfContact sc, PetscInt natural, const PetscScalar *b, PetscReal S[9])
 {
-  (void)ClothContactFilter(b, sc->cloth->model->pinned[natural], S);
+  (void)ClothContactFilter(b, sc->layout.model->pinned[natural], S);
 }
 
 /* The body-contact normals of this evaluation: owned part and remote copies (NULL when no body). */
 typedef struct {
+  Vec                normals; /* the cloth's (borrowed) */
   const PetscScalar *owned, *remote;
 } BodyNormals;
 
@@ -855,9 +860,10 @@ static PetscErrorCode BodyNormalsGet(ClothSelfContact sc, BodyNormals *bn)
 {
   PetscFunctionBeginUser;
   bn->owned = bn->remote = NULL;
-  if (!sc->cloth->contact_normal) PetscFunctionReturn(PETSC_SUCCESS);
-  PetscCall(RefreshRemote(sc, sc->cloth->contact_normal, sc->bremote));
-  PetscCall(VecGetArrayRead(sc->cloth->contact_normal, &bn->owned));
+  PetscCall(ClothPeekContactNormals(sc->cloth, &bn->normals));
+  if (!bn->normals) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(RefreshRemote(sc, bn->normals, sc->bremote));
+  PetscCall(VecGetArrayRead(bn->normals, &bn->owned));
   PetscCall(VecGetArrayRead(sc->bremote, &bn->remote));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -867,7 +873,7 @@ static PetscErrorCode BodyNormalsRestore(ClothSelfContact sc, BodyNormals *bn)
   PetscFunctionBeginUser;
   if (!bn->owned) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(VecRestoreArrayRead(sc->bremote, &bn->remote));
-  PetscCall(VecRestoreArrayRead(sc->cloth->contact_normal, &bn->owned));
+  PetscCall(VecRestoreArrayRead(bn->normals, &bn->owned));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -875,7 +881,7 @@ static void ContactFilters(ClothSelfContact sc, const BodyNormals *bn, PetscInt 
 {
   for (PetscInt j = 0; j < SELF_CONTACT_NP; j++) {
     const PetscInt k = sc->local[SELF_CONTACT_NP * c + j];
-    ParticleFilter(sc, sc->contacts[c].p[j], bn->owned ? (k < sc->cloth->nlocal ? &bn->owned[3 * k] : &bn->remote[3 * (k - sc->cloth->nlocal)]) : NULL, S[j]);
+    ParticleFilter(sc, sc->contacts[c].p[j], bn->owned ? (k < sc->layout.nlocal ? &bn->owned[3 * k] : &bn->remote[3 * (k - sc->layout.nlocal)]) : NULL, S[j]);
   }
 }
 
@@ -890,7 +896,7 @@ static PetscErrorCode AddContactStiffness(ClothSelfContact sc, const BodyNormals
 
   PetscFunctionBeginUser;
   ContactFilters(sc, bn, c, S);
-  for (PetscInt j = 0; j < SELF_CONTACT_NP; j++) rows[j] = sc->cloth->solver_of_natural[contact->p[j]];
+  for (PetscInt j = 0; j < SELF_CONTACT_NP; j++) rows[j] = sc->layout.solver_of_natural[contact->p[j]];
   for (PetscInt k = 0; k < SELF_CONTACT_NP; k++) {
     for (PetscInt r = 0; r < 3; r++) /* KS = K S_k */
       for (PetscInt q = 0; q < 3; q++) KS[3 * r + q] = K[3 * r] * S[k][q] + K[3 * r + 1] * S[k][3 + q] + K[3 * r + 2] * S[k][6 + q];
@@ -906,7 +912,7 @@ static PetscErrorCode AddContactStiffness(ClothSelfContact sc, const BodyNormals
    blocks set in its first assembly, so every assembly sets them all, whichever contacts are active. */
 static PetscErrorCode AddPatternZeros(ClothSelfContact sc, Mat A)
 {
-  const PetscInt64  N       = sc->cloth->nglobal;
+  const PetscInt64  N       = sc->layout.nglobal;
   const PetscScalar zero[9] = {0};
 
   PetscFunctionBeginUser;
@@ -917,10 +923,12 @@ static PetscErrorCode AddPatternZeros(ClothSelfContact sc, Mat A)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode ClothSelfContactAddForces_Private(ClothSelfContact sc, Vec position, Vec velocity, Vec force, Vec kv, Mat A, PetscReal h2, PetscBool psd, PetscReal *energy)
+/* Adds the repulsion of the current contacts at (position, velocity) to force, to kv (K v; may be NULL), h2 K to A (may
+   be NULL; filtered like the rest of the system) and to *energy (may be NULL). Collective. */
+static PetscErrorCode AddRepulsion(ClothSelfContact sc, Vec position, Vec velocity, Vec force, Vec kv, Mat A, PetscReal h2, PetscBool psd, PetscReal *energy)
 {
   PetscScalar *x, *xr, *v = NULL, *vr = NULL, *f, *fr, *k = NULL, *kr = NULL;
-  BodyNormals  bn = {NULL, NULL};
+  BodyNormals  bn = {NULL, NULL, NULL};
 
   PetscFunctionBeginUser;
   if (!sc->remote_scatter) PetscFunctionReturn(PETSC_SUCCESS); /* no search yet (on every rank alike) */
@@ -987,7 +995,7 @@ PetscErrorCode ClothSelfContactAddForces_Private(ClothSelfContact sc, Vec positi
 
 static PetscReal InverseMass(ClothSelfContact sc, PetscInt natural)
 {
-  const ClothModel m = sc->cloth->model;
+  const ClothModel m = sc->layout.model;
 
   return (m->pinned[natural] || m->mass[natural] <= 0) ? 0.0 : 1.0 / m->mass[natural];
 }
@@ -1073,7 +1081,7 @@ PetscErrorCode ClothSelfContactFilterVelocity(ClothSelfContact sc, PetscReal h, 
 
 PetscErrorCode ClothSelfContactFindBruteForce(ClothSelfContact sc, const PetscReal x[], PetscReal radius, PetscInt *n, ClothContact **contacts)
 {
-  const PetscInt nparticles = sc->cloth->nglobal;
+  const PetscInt nparticles = sc->layout.nglobal;
   PetscInt       cap        = 64;
 
   PetscFunctionBeginUser;
@@ -1123,13 +1131,17 @@ PetscErrorCode ClothSelfContactFindBruteForce(ClothSelfContact sc, const PetscRe
 PetscErrorCode ClothSelfContactCreate(Cloth cloth, ClothSelfContact *sc)
 {
   ClothSelfContact          s;
-  const SceneSelfCollision *scene = &cloth->scene->self_collision;
+  Scene                     full;
+  const SceneSelfCollision *scene;
 
   PetscFunctionBeginUser;
   PetscCall(ClothLogRegister());
   PetscCall(PetscNew(&s));
+  PetscCall(ClothGetScene(cloth, &full));
+  scene                 = &full->self_collision;
   s->cloth              = cloth;
-  s->comm               = cloth->comm;
+  s->scene              = full;
+  PetscCall(ClothGetComm(cloth, &s->comm));
   s->enabled            = scene->enabled;
   s->thickness          = scene->thickness;
   s->stiffness          = scene->stiffness;
@@ -1159,7 +1171,7 @@ PetscErrorCode ClothSelfContactSetFromOptions(ClothSelfContact sc)
     PetscReal spacing;
 
     /* finite and bounded before the cell grid, whose size follows the thickness, is built */
-    PetscCall(SceneGetLargestSpacing(sc->cloth->scene, &spacing));
+    PetscCall(SceneGetLargestSpacing(sc->scene, &spacing));
     PetscCheck(sc->thickness > 0 && sc->thickness <= SCENE_SELF_COLLISION_MAX_SPACINGS * spacing, sc->comm, PETSC_ERR_USER_INPUT,
                "Self-collision thickness (scene self_collision: thickness, or -self_collision_thickness) %g m: expected a positive number of at most %d particle spacings, %g m", (double)sc->thickness, SCENE_SELF_COLLISION_MAX_SPACINGS,
                (double)(SCENE_SELF_COLLISION_MAX_SPACINGS * spacing));
@@ -1174,21 +1186,43 @@ PetscErrorCode ClothSelfContactSetFromOptions(ClothSelfContact sc)
 
 PetscErrorCode ClothSelfContactSetUp(ClothSelfContact sc)
 {
-  const Cloth cloth = sc->cloth;
+  const ClothLayout *layout = &sc->layout;
+  PetscBool          cloth_setup;
 
   PetscFunctionBeginUser;
   if (sc->setup) PetscFunctionReturn(PETSC_SUCCESS);
-  PetscCheck(cloth->setup, sc->comm, PETSC_ERR_ORDER, "Set the cloth up (ClothSetUp) before its self-contact");
-  PetscCall(BuildPrimitives(sc, cloth->model));
-  PetscCall(BuildIncidence(cloth->nglobal, sc->ntri, 3, sc->tri, &sc->tri_start, &sc->tri_of));
-  PetscCall(BuildIncidence(cloth->nglobal, sc->nedge, 2, sc->edge, &sc->edge_start, &sc->edge_of));
-  PetscCall(BuildGridPositions(sc, cloth->scene, cloth->model));
-  PetscCall(PetscMalloc1(cloth->nglobal, &sc->contact_index));
-  for (PetscInt g = 0; g < cloth->nglobal; g++) sc->contact_index[g] = -1;
+  PetscCall(ClothIsSetUp(sc->cloth, &cloth_setup));
+  PetscCheck(cloth_setup, sc->comm, PETSC_ERR_ORDER, "Set the cloth up (ClothSetUp) before its self-contact");
+  PetscCall(ClothGetLayout(sc->cloth, &sc->layout));
+  PetscCall(ClothGetState(sc->cloth, &sc->position, &sc->velocity));
+  PetscCall(BuildPrimitives(sc, layout->model));
+  PetscCall(BuildIncidence(layout->nglobal, sc->ntri, 3, sc->tri, &sc->tri_start, &sc->tri_of));
+  PetscCall(BuildIncidence(layout->nglobal, sc->nedge, 2, sc->edge, &sc->edge_start, &sc->edge_of));
+  PetscCall(BuildGridPositions(sc, layout->scene, layout->model));
+  PetscCall(PetscMalloc1(layout->nglobal, &sc->contact_index));
+  for (PetscInt g = 0; g < layout->nglobal; g++) sc->contact_index[g] = -1;
   PetscCall(PetscCalloc2(sc->ntri + 1, &sc->tri_mark, sc->nedge + 1, &sc->edge_mark));
   PetscCall(CellGridCreate(&sc->triangle_grid));
   PetscCall(CellGridCreate(&sc->edge_grid));
   sc->setup = PETSC_TRUE;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The contribution's add (cloth.h). */
+static PetscErrorCode AddContribution(void *ctx, const ClothContributionArgs *args)
+{
+  PetscFunctionBeginUser;
+  PetscCall(AddRepulsion((ClothSelfContact)ctx, args->position, args->velocity, args->force, args->kv, args->A, args->h2, args->psd, args->energy));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothSelfContactGetContribution(ClothSelfContact sc, ClothContribution *contribution)
+{
+  PetscFunctionBeginUser;
+  contribution->name             = "self-contact";
+  contribution->ctx              = sc;
+  contribution->add              = AddContribution;
+  contribution->count_row_blocks = CountRowBlocks;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -1213,7 +1247,7 @@ PetscErrorCode ClothSelfContactUpdate(ClothSelfContact sc, PetscReal h, PetscBoo
   PetscCall(ClothSelfContactSetUp(sc));
   PetscCall(PetscLogEventBegin(ClothLog.self_collision, 0, 0, 0, 0));
   /* at the velocities of the start of the step; the velocity filter searches again at the new ones */
-  PetscCall(Search(sc, sc->thickness, sc->cloth->velocity, h));
+  PetscCall(Search(sc, sc->thickness, sc->velocity, h));
   if (pattern_changed) PetscCall(UpdatePattern(sc, pattern_changed));
   sc->searches++;
   sc->contacts_found += sc->ncontacts;

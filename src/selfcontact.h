@@ -85,10 +85,7 @@ PetscErrorCode ClothSelfContactFilterVelocity(ClothSelfContact sc, PetscReal h, 
 PetscErrorCode ClothSelfContactView(ClothSelfContact sc, PetscViewer viewer);
 PetscErrorCode ClothSelfContactDestroy(ClothSelfContact *sc);
 
-/* Private, for cloth_assembly.c: adds the repulsion of the current contacts at (position, velocity)
-   to force, to kv (K v; may be NULL), h2 K to A (may be NULL; filtered like the rest of the system)
-   and to *energy (may be NULL). Collective. */
-PetscErrorCode ClothSelfContactAddForces_Private(ClothSelfContact sc, Vec position, Vec velocity, Vec force, Vec kv, Mat A, PetscReal h2, PetscBool psd, PetscReal *energy);
-/* Private, for ClothCreateMatrix: adds the blocks the contacts couple beyond the static pattern to the
-   per-row counts (diagonal / off-diagonal part, and their upper triangles). Not collective. */
-PetscErrorCode ClothSelfContactCountRowBlocks_Private(ClothSelfContact sc, PetscInt dnnz[], PetscInt onnz[], PetscInt dnnzu[], PetscInt onnzu[]);
+/* The contribution (cloth.h) through which the repulsion joins the cloth's forces, energies and implicit system, and
+   its coupled blocks the matrix's preallocation: register it with ClothAddContribution after ClothSelfContactSetUp,
+   before the matrix is created. */
+PetscErrorCode ClothSelfContactGetContribution(ClothSelfContact sc, ClothContribution *contribution);
