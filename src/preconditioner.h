@@ -4,21 +4,22 @@
    does not grow with the sheet's size, as point-block Jacobi's does (docs/performance.md). Its set-up costs several
    solves, so not all of it is redone every step:
 
-   - lag:     the preconditioner of an earlier step is used as it is (the operator itself is always current);
+   - lag:     the coarse levels of an earlier step are used as they are; the operator and the finest level's smoother
+              (its point-block diagonal and Chebyshev bounds) are always the current matrix's;
    - refresh: the coarse operators (Galerkin products), smoothers and point-block diagonals are recomputed from
               the current matrix, the aggregates and interpolation are kept;
    - rebuild: everything (with -implicit_pc_rigid_body_modes, the rigid-body modes at the current positions as the
               near-null space; by default the three translations).
 
    Which one is decided by the iteration count: with -implicit_pc_lag_ratio r > 0 a step refreshes when the last solve
-   took more than r times the iterations of the first solve after the last refresh (by default, r = 0, every step
-   refreshes: measured faster, see SetFromOptions); a refresh is followed by a rebuild when its solve took more than
+   took more than r times the iterations of the first solve after the last refresh (default 1.2, measured best of
+   0 (every step refreshes), 1.15, 1.2, 1.3, 1.6 and 2.5: docs/performance.md); a refresh is followed by a rebuild when its solve took more than
    -implicit_pc_rebuild_ratio times the iterations after the last rebuild (the sheet has moved so far that the
    aggregates no longer fit). A new matrix (new nonzero pattern) and
    ClothPreconditionerRequestRebuild force a rebuild, a change of the step size (a halved step) a refresh.
    GAMG needs a scalar (AIJ) matrix; when the implicit matrix is BAIJ or SBAIJ, the preconditioner is built from
    an AIJ copy made only when it is refreshed or rebuilt, while the Krylov method and the finest smoother stream
-   the block matrix itself (PCSetUseAmat) when the preconditioner is refreshed every step.
+   the block matrix itself (PCSetUseAmat).
 
    Preconditioners without a set-up worth saving (point-block Jacobi, ICC, ...) are set up every step, as before. */
 #pragma once
