@@ -96,6 +96,24 @@ typedef struct {
   PetscErrorCode (*count_row_blocks)(void *ctx, PetscInt dnnz[], PetscInt onnz[], PetscInt dnnzu[], PetscInt onnzu[]);
 } ClothContribution;
 #define CLOTH_MAX_CONTRIBUTIONS 8
+/* Counts the block (row, col) (solver indices, row owned: rstart <= row < rend) in its row's preallocation: the
+   diagonal part (col owned) or the off-diagonal one, and, when above the diagonal, the upper-triangle counts (SBAIJ). */
+static inline void ClothCountRowBlock(PetscInt rstart, PetscInt rend, PetscInt row, PetscInt col, PetscInt dnnz[], PetscInt onnz[], PetscInt dnnzu[], PetscInt onnzu[])
+{
+  const PetscBool owned = (col >= rstart && col < rend) ? PETSC_TRUE : PETSC_FALSE;
+  const PetscInt  i     = row - rstart;
+
+  if (owned)
+    dnnz[i]++;
+  else
+    onnz[i]++;
+  if (col > row) {
+    if (owned)
+      dnnzu[i]++;
+    else
+      onnzu[i]++;
+  }
+}
 /* Registers a contribution (copied); at most CLOTH_MAX_CONTRIBUTIONS. Matrices created before do not have its
    blocks: register before ClothCreateMatrix. Not collective, but every rank registers the same ones. */
 PetscErrorCode ClothAddContribution(Cloth cloth, const ClothContribution *contribution);
@@ -105,17 +123,17 @@ PetscErrorCode ClothRemoveContribution(Cloth cloth, void *ctx);
 /* The distribution of the particles, read-only and borrowed, for contributions and other modules built on the
    cloth. Solver numbering: each rank owns [rstart, rstart + nlocal); local numbering: owned then ghosts. */
 typedef struct {
-  MPI_Comm          comm;
-  PetscInt          nglobal, nlocal, nghost, rstart;
-  const PetscInt   *part;              /* natural -> owning rank */
-  const PetscInt   *solver_of_natural; /* natural -> solver index */
-  const PetscInt   *natural_of_local;  /* local -> natural */
-  const PetscInt   *xadj, *adjncy;     /* the interaction graph in natural order (CSR, sorted neighbours) */
-  PetscInt          nlinks;            /* the links this rank evaluates, in local particle numbers */
-  const ClothLink  *links;
-  const PetscBool  *fixed;             /* local: pinned particles */
-  ClothModel        model;
-  Scene             scene;
+  MPI_Comm         comm;
+  PetscInt         nglobal, nlocal, nghost, rstart;
+  const PetscInt  *part;              /* natural -> owning rank */
+  const PetscInt  *solver_of_natural; /* natural -> solver index */
+  const PetscInt  *natural_of_local;  /* local -> natural */
+  const PetscInt  *xadj, *adjncy;     /* the interaction graph in natural order (CSR, sorted neighbours) */
+  PetscInt         nlinks;            /* the links this rank evaluates, in local particle numbers */
+  const ClothLink *links;
+  const PetscBool *fixed; /* local: pinned particles */
+  ClothModel       model;
+  Scene            scene;
 } ClothLayout;
 /* After ClothSetUp. */
 PetscErrorCode ClothGetLayout(Cloth cloth, ClothLayout *layout);

@@ -395,20 +395,7 @@ static PetscErrorCode CountRowBlocks(Cloth cloth, PetscInt dnnz[], PetscInt onnz
     const PetscInt g = cloth->natural_of_local[i], row = cloth->rstart + i;
     dnnz[i] = dnnzu[i] = 1;
     onnz[i] = onnzu[i] = 0;
-    for (PetscInt k = cloth->xadj[g]; k < cloth->xadj[g + 1]; k++) {
-      const PetscInt  col   = cloth->solver_of_natural[cloth->adjncy[k]];
-      const PetscBool owned = (col >= cloth->rstart && col < rend) ? PETSC_TRUE : PETSC_FALSE;
-      if (owned)
-        dnnz[i]++;
-      else
-        onnz[i]++;
-      if (col > row) {
-        if (owned)
-          dnnzu[i]++;
-        else
-          onnzu[i]++;
-      }
-    }
+    for (PetscInt k = cloth->xadj[g]; k < cloth->xadj[g + 1]; k++) ClothCountRowBlock(cloth->rstart, rend, row, cloth->solver_of_natural[cloth->adjncy[k]], dnnz, onnz, dnnzu, onnzu);
   }
   PetscFunctionReturn(PETSC_SUCCESS);
 }

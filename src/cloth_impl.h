@@ -37,12 +37,12 @@ struct _n_Cloth {
   PetscInt      *xadj, *adjncy;        /* natural-order adjacency, kept for preallocation */
 
   Vec position, velocity, work_force, work_kv;
-  Vec contact_normal;                          /* ghosted, bs 3: unit normal of each particle's contact constraint, 0 when free
-                                                  (created by ClothGetContactNormals; NULL: no contacts) */
-  PetscReal                  *slider_saved[2]; /* cos0, sin0 of the friction elements, per save slot (ClothHysteresisSave) */
-  struct _n_ClothSelfContact *self_contact;    /* cloth-cloth contacts whose updates the integrator applies (borrowed, NULL: off) */
+  Vec contact_normal;                                                 /* ghosted, bs 3: unit normal of each particle's contact constraint, 0 when free
+                                                                         (created by ClothGetContactNormals; NULL: no contacts) */
+  PetscReal                  *slider_saved[2];                        /* cos0, sin0 of the friction elements, per save slot (ClothHysteresisSave) */
+  struct _n_ClothSelfContact *self_contact;                           /* cloth-cloth contacts whose updates the integrator applies (borrowed, NULL: off) */
   ClothContribution           contributions[CLOTH_MAX_CONTRIBUTIONS]; /* plugged-in forces (cloth.h) */
   PetscInt                    ncontributions;
-  Vec                         natural;         /* template for natural-order Vecs */
+  Vec                         natural; /* template for natural-order Vecs */
   VecScatter                  to_natural;
 };

@@ -14,9 +14,9 @@
 #define SELF_CONTACT_NP 4 /* particles of a contact element */
 
 struct _n_ClothSelfContact {
-  Cloth                     cloth;    /* borrowed; read through its public accessors only */
+  Cloth                     cloth; /* borrowed; read through its public accessors only */
   Scene                     scene;
-  ClothLayout               layout;   /* the cloth's particle distribution (after set-up) */
+  ClothLayout               layout;             /* the cloth's particle distribution (after set-up) */
   Vec                       position, velocity; /* the cloth's state (borrowed) */
   MPI_Comm                  comm;
   PetscMPIInt               size, rank;
@@ -243,9 +243,9 @@ static void OwnedBox(ClothSelfContact sc, const PetscScalar x[], PetscReal box[6
 static PetscErrorCode ExchangeNearParticles(ClothSelfContact sc, const PetscScalar x[], PetscReal margin, PetscInt *nrecv, PetscInt **recv)
 {
   const ClothLayout *layout = &sc->layout;
-  PetscReal    mybox[6], *boxes;
-  PetscMPIInt *scount, *rcount, *sdispl, *rdispl;
-  PetscInt    *send, nsend = 0;
+  PetscReal          mybox[6], *boxes;
+  PetscMPIInt       *scount, *rcount, *sdispl, *rdispl;
+  PetscInt          *send, nsend = 0;
 
   PetscFunctionBeginUser;
   OwnedBox(sc, x, mybox);
@@ -281,9 +281,9 @@ static PetscErrorCode ExchangeNearParticles(ClothSelfContact sc, const PetscScal
 static PetscErrorCode SetRemoteParticles(ClothSelfContact sc, PetscInt nrecv, PetscInt *recv)
 {
   const ClothLayout *layout = &sc->layout;
-  PetscBool   same  = (sc->remote_scatter && nrecv == sc->nremote) ? PETSC_TRUE : PETSC_FALSE, all_same;
-  PetscInt   *solver;
-  IS          from;
+  PetscBool          same   = (sc->remote_scatter && nrecv == sc->nremote) ? PETSC_TRUE : PETSC_FALSE, all_same;
+  PetscInt          *solver;
+  IS                 from;
 
   PetscFunctionBeginUser;
   for (PetscInt k = 0; same && k < nrecv; k++)
@@ -338,7 +338,7 @@ static PetscErrorCode SumRemoteInto(ClothSelfContact sc, Vec remote, Vec global)
 static PetscErrorCode GatherContactLocal(ClothSelfContact sc, const PetscScalar x[], Vec velocity, PetscReal h)
 {
   const ClothLayout *layout = &sc->layout;
-  const PetscInt     n     = layout->nlocal + sc->nremote;
+  const PetscInt     n      = layout->nlocal + sc->nremote;
   const PetscScalar *xr, *v = NULL, *vr = NULL;
 
   PetscFunctionBeginUser;
@@ -712,10 +712,10 @@ static PetscBool StaticallyCoupled(const ClothLayout *layout, PetscInt a, PetscI
 static PetscErrorCode ContactBlocks(ClothSelfContact sc, PetscInt *nkeys, PetscInt64 **keys)
 {
   const ClothLayout *layout = &sc->layout;
-  const PetscInt64 N     = layout->nglobal;
-  PetscMPIInt     *scount, *rcount, *sdispl, *rdispl;
-  PetscInt64      *send, *recv;
-  PetscInt         nsend = 0, n = 0, *dest;
+  const PetscInt64   N      = layout->nglobal;
+  PetscMPIInt       *scount, *rcount, *sdispl, *rdispl;
+  PetscInt64        *send, *recv;
+  PetscInt           nsend = 0, n = 0, *dest;
 
   PetscFunctionBeginUser;
   PetscCall(PetscCalloc4(sc->size, &scount, sc->size, &rcount, sc->size + 1, &sdispl, sc->size + 1, &rdispl));
@@ -795,25 +795,15 @@ static PetscErrorCode UpdatePattern(ClothSelfContact sc, PetscBool *changed)
 /* The contribution's count_row_blocks (cloth.h): the blocks the contacts couple beyond the static pattern. */
 static PetscErrorCode CountRowBlocks(void *ctx, PetscInt dnnz[], PetscInt onnz[], PetscInt dnnzu[], PetscInt onnzu[])
 {
-  const ClothSelfContact sc = (ClothSelfContact)ctx;
-  const ClothLayout *layout = &sc->layout;
-  const PetscInt64 N     = layout->nglobal;
+  const ClothSelfContact sc     = (ClothSelfContact)ctx;
+  const ClothLayout     *layout = &sc->layout;
+  const PetscInt64       N      = layout->nglobal;
 
   PetscFunctionBeginUser;
   for (PetscInt k = 0; k < sc->nextra; k++) {
-    const PetscInt  row = (PetscInt)(sc->extra[k] / N), col = (PetscInt)(sc->extra[k] % N), i = row - layout->rstart;
-    const PetscBool owned = (col >= layout->rstart && col < layout->rstart + layout->nlocal) ? PETSC_TRUE : PETSC_FALSE;
+    const PetscInt row = (PetscInt)(sc->extra[k] / N), col = (PetscInt)(sc->extra[k] % N), i = row - layout->rstart;
     PetscCheck(i >= 0 && i < layout->nlocal, PETSC_COMM_SELF, PETSC_ERR_PLIB, "Contact block row %" PetscInt_FMT " is not owned", row);
-    if (owned)
-      dnnz[i]++;
-    else
-      onnz[i]++;
-    if (col > row) {
-      if (owned)
-        dnnzu[i]++;
-      else
-        onnzu[i]++;
-    }
+    ClothCountRowBlock(layout->rstart, layout->rstart + layout->nlocal, row, col, dnnz, onnz, dnnzu, onnzu);
   }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -1138,9 +1128,9 @@ PetscErrorCode ClothSelfContactCreate(Cloth cloth, ClothSelfContact *sc)
   PetscCall(ClothLogRegister());
   PetscCall(PetscNew(&s));
   PetscCall(ClothGetScene(cloth, &full));
-  scene                 = &full->self_collision;
-  s->cloth              = cloth;
-  s->scene              = full;
+  scene    = &full->self_collision;
+  s->cloth = cloth;
+  s->scene = full;
   PetscCall(ClothGetComm(cloth, &s->comm));
   s->enabled            = scene->enabled;
   s->thickness          = scene->thickness;
