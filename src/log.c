@@ -25,5 +25,13 @@ PetscErrorCode ClothLogRegister(void)
   PetscCall(PetscLogEventRegister("ClothCheckpointRead", ClothLog.classid, &ClothLog.checkpoint_read));
   PetscCall(PetscLogStageRegister("Setup", &ClothLog.stage_setup));
   PetscCall(PetscLogStageRegister("Time steps", &ClothLog.stage_steps));
+  PetscCall(PetscLogStageRegister("Setup: scene", &ClothLog.stage_scene));
+  PetscCall(PetscLogStageRegister("Setup: meshing", &ClothLog.stage_meshing));
+  PetscCall(PetscLogStageRegister("Setup: graph", &ClothLog.stage_graph));
+  PetscCall(PetscLogStageRegister("Setup: partition", &ClothLog.stage_partition));
+  PetscCall(PetscLogStageRegister("Setup: distribute", &ClothLog.stage_distribute));
+  PetscCall(PetscLogStageRegister("Setup: bodies", &ClothLog.stage_bodies));
+  PetscCall(PetscLogStageRegister("Setup: matrix", &ClothLog.stage_matrix));
+  PetscCall(PetscLogStageRegister("Setup: output", &ClothLog.stage_output));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

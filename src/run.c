@@ -428,9 +428,15 @@ PetscErrorCode ClothRunSetUp(ClothRun run)
 {
   PetscFunctionBeginUser;
   PetscCall(PetscLogStagePush(ClothLog.stage_setup));
+  PetscCall(PetscLogStagePush(ClothLog.stage_output));
   PetscCall(ClothRunClaimOutput(run));
+  PetscCall(PetscLogStagePop());
   PetscCall(ClothSetUp(run->cloth));
-  if (run->collision) PetscCall(ClothCollisionSetUp(run->collision)); /* reads meshes, pushes out particles that start inside */
+  if (run->collision) { /* reads meshes, pushes out particles that start inside */
+    PetscCall(PetscLogStagePush(ClothLog.stage_bodies));
+    PetscCall(ClothCollisionSetUp(run->collision));
+    PetscCall(PetscLogStagePop());
+  }
   {
     PetscBool self_collision;
     PetscCall(ClothSelfContactGetEnabled(run->self_contact, &self_collision));
@@ -459,11 +465,15 @@ PetscErrorCode ClothRunSetUp(ClothRun run)
   PetscCall(PetscObjectSetName((PetscObject)run->natural_position, "position"));
   PetscCall(PetscObjectSetName((PetscObject)run->natural_velocity, "velocity"));
   if (run->restart[0]) PetscCall(ClothRunRestore(run));
+  PetscCall(PetscLogStagePush(ClothLog.stage_matrix));
   PetscCall(ClothIntegratorSetUp(run->integrator));
+  PetscCall(PetscLogStagePop());
   if (run->restart[0]) PetscCall(ClothRunRestoreWarmStart(run));
   PetscCall(ClothRunResolveSteps(run));
+  PetscCall(PetscLogStagePush(ClothLog.stage_output));
   PetscCall(ClothRunOpenOutput(run));
   PetscCall(ClothRunAddBodyMeshes(run));
+  PetscCall(PetscLogStagePop());
   PetscCall(PetscLogStagePop());
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -621,7 +631,9 @@ PetscErrorCode ClothRunSolve(ClothRun run)
 
   PetscFunctionBeginUser;
   PetscCall(PetscPrintf(run->comm, "Running %s: %" PetscInt_FMT " steps of %g s from step %" PetscInt_FMT "; output in %s\n", run->scene->name, run->steps, (double)run->dt, run->step, run->output_dir));
+  PetscCall(PetscLogStagePush(ClothLog.stage_output));
   PetscCall(ClothRunWriteFirstFrame(run));
+  PetscCall(PetscLogStagePop());
   PetscCall(PetscLogStagePush(ClothLog.stage_steps));
   while (run->step < run->steps && !stop) {
     /* the scale at the end of the step, where implicit Euler evaluates the forces; a function of time alone,
