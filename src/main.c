@@ -57,9 +57,9 @@ int main(int argc, char **argv)
   PetscCall(PetscInitialize(&argc, &argv, NULL, help));
   PetscCall(GetScenePath(scene_path, sizeof(scene_path)));
   PetscCall(ClothLogRegister());
-  PetscCall(PetscLogStagePush(ClothLog.stage_scene));
+  PetscCall(ClothLogPhaseBegin(CLOTH_SETUP_SCENE));
   PetscCall(SceneCreateFromFile(PETSC_COMM_WORLD, scene_path, &scene));
-  PetscCall(PetscLogStagePop());
+  PetscCall(ClothLogPhaseEnd(CLOTH_SETUP_SCENE));
   PetscCall(ClothRunCreate(PETSC_COMM_WORLD, scene, &run));
   PetscCall(ClothRunSetFromOptions(run));
   PetscCall(SceneView(scene, PETSC_VIEWER_STDOUT_WORLD));
