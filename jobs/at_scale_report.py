@@ -108,7 +108,7 @@ def memory_row(run):
     n = run["particles"]
     row = {"run": run["name"], "particles": n, "ranks": run["ranks"], "load_before": run["load_before"],
            "rss_total_bytes_per_particle": run["rss_total"] / n,
-           "malloc_peak_bytes_per_particle": run["malloc_total"] / n}
+           "malloc_peak_bytes_per_particle": run.get("malloc_total", 0.0) / n}
     for p in PHASES:
         row[p + "_B_per_particle"] = 1e6 * event(run, "Setup: " + p, "SetUp_" + p, "malloc_mb") / n
         row[p + "_resident_B_per_particle"] = 1e6 * event(run, "Setup: " + p, "SetUp_" + p, "rmi_mb") / n
