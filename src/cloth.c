@@ -25,7 +25,7 @@ PetscErrorCode ClothSetFromOptions(Cloth cloth)
 {
   PetscFunctionBeginUser;
   PetscOptionsBegin(cloth->comm, NULL, "Cloth distribution", "Cloth");
-  PetscCall(PetscOptionsEnum("-cloth_partition", "How particles are split across ranks", "ClothSetUp", ClothPartitionTypes, (PetscEnum)cloth->partition_type, (PetscEnum *)&cloth->partition_type, NULL));
+  PetscCall(PetscOptionsEnum("-cloth_partition", "How particles are split across ranks: metis (METIS on rank 0), block (natural order), ptscotch or parmetis (PETSc MatPartitioning on all ranks; parmetis if PETSc has it)", "ClothSetUp", ClothPartitionTypes, (PetscEnum)cloth->partition_type, (PetscEnum *)&cloth->partition_type, NULL));
   PetscCall(PetscOptionsBool("-cloth_view_partition", "Print the partition quality at start-up, with one line per rank", "ClothView", cloth->view_partition, &cloth->view_partition, NULL));
   PetscCall(PetscOptionsBool("-cloth_view_partition_summary", "Print a one-line partition summary at start-up on more than one rank", "ClothSetViewPartitionSummary", cloth->view_partition_summary, &cloth->view_partition_summary, NULL));
   PetscCall(PetscOptionsReal("-cloth_perturbation", "Amplitude, m, of a seeded random displacement of the free particles along the fabric's normal at the start (a real specimen's imperfections; 0: none)", "ClothModelPerturbPositions",
@@ -247,8 +247,10 @@ PetscErrorCode ClothSetUp(Cloth cloth)
   PetscCall(PetscLogEventBegin(ClothLog.setup, 0, 0, 0, 0));
   PetscCallMPI(MPI_Comm_size(cloth->comm, &size));
   PetscCallMPI(MPI_Comm_rank(cloth->comm, &rank));
+  PetscCall(ClothLogPhaseBegin(CLOTH_SETUP_MESHING));
   PetscCall(ClothModelCreate(cloth->scene, &cloth->model));
   PetscCall(ClothModelPerturbPositions(cloth->model, cloth->perturbation, cloth->perturbation_wavelength, cloth->perturbation_seed));
+  PetscCall(ClothLogPhaseEnd(CLOTH_SETUP_MESHING));
   if (cloth->perturbation > 0 && cloth->perturbation_wavelength > 0)
     PetscCall(PetscPrintf(cloth->comm, "Start imperfections: free particles moved along the fabric's normal by up to %g m, a smooth field of wavelengths %g-%g m (seed %" PetscInt_FMT ")\n", (double)cloth->perturbation,
                           (double)cloth->perturbation_wavelength, (double)(3 * cloth->perturbation_wavelength), cloth->perturbation_seed));
@@ -256,17 +258,23 @@ PetscErrorCode ClothSetUp(Cloth cloth)
     PetscCall(PetscPrintf(cloth->comm, "Start imperfections: free particles moved along the fabric's normal by up to %g m (seed %" PetscInt_FMT ")\n", (double)cloth->perturbation, cloth->perturbation_seed));
   cloth->nglobal = cloth->model->nparticles;
   PetscCheck(cloth->nglobal >= size, cloth->comm, PETSC_ERR_USER_INPUT, "%" PetscInt_FMT " particles cannot be shared by %d ranks: expected at most %" PetscInt_FMT " ranks (mpiexec -n) or a finer grid", cloth->nglobal, size, cloth->nglobal);
+  PetscCall(ClothLogPhaseBegin(CLOTH_SETUP_GRAPH));
   PetscCall(ClothModelGetAdjacency(cloth->model, &cloth->xadj, &cloth->adjncy));
+  PetscCall(ClothLogPhaseEnd(CLOTH_SETUP_GRAPH));
   PetscCall(PetscMalloc1(cloth->nglobal, &cloth->part));
+  PetscCall(ClothLogPhaseBegin(CLOTH_SETUP_PARTITION));
   PetscCall(PetscLogEventBegin(ClothLog.partition, 0, 0, 0, 0));
   PetscCall(ClothPartitionGraph(cloth->comm, cloth->partition_type, cloth->nglobal, cloth->xadj, cloth->adjncy, size, cloth->part));
   PetscCall(PetscLogEventEnd(ClothLog.partition, 0, 0, 0, 0));
   cloth->edge_cut = ClothPartitionEdgeCut(cloth->nglobal, cloth->xadj, cloth->adjncy, cloth->part);
+  PetscCall(ClothLogPhaseEnd(CLOTH_SETUP_PARTITION));
+  PetscCall(ClothLogPhaseBegin(CLOTH_SETUP_DISTRIBUTE));
   PetscCall(ClothNumberParticles(cloth));
   PetscCall(ClothFindGhosts(cloth, rank));
   PetscCall(ClothDistributeInteractions(cloth, rank));
   PetscCall(ClothDistributeParticles(cloth));
   PetscCall(ClothSetUpNaturalScatter(cloth));
+  PetscCall(ClothLogPhaseEnd(CLOTH_SETUP_DISTRIBUTE));
   cloth->setup = PETSC_TRUE;
   PetscCall(PetscLogEventEnd(ClothLog.setup, 0, 0, 0, 0));
   if (cloth->view_partition)

@@ -6,6 +6,8 @@ ClothLogEvents ClothLog;
 
 static PetscBool registered = PETSC_FALSE;
 
+static const char *const phase_names[CLOTH_SETUP_PHASES] = {"scene", "meshing", "graph", "partition", "distribute", "bodies", "matrix", "output"};
+
 PetscErrorCode ClothLogRegister(void)
 {
   PetscFunctionBeginUser;
@@ -25,5 +27,29 @@ PetscErrorCode ClothLogRegister(void)
   PetscCall(PetscLogEventRegister("ClothCheckpointRead", ClothLog.classid, &ClothLog.checkpoint_read));
   PetscCall(PetscLogStageRegister("Setup", &ClothLog.stage_setup));
   PetscCall(PetscLogStageRegister("Time steps", &ClothLog.stage_steps));
+  for (PetscInt p = 0; p < CLOTH_SETUP_PHASES; p++) {
+    char stage[64], event[64];
+
+    PetscCall(PetscSNPrintf(stage, sizeof(stage), "Setup: %s", phase_names[p]));
+    PetscCall(PetscSNPrintf(event, sizeof(event), "SetUp_%s", phase_names[p]));
+    PetscCall(PetscLogStageRegister(stage, &ClothLog.stage_phase[p]));
+    PetscCall(PetscLogEventRegister(event, ClothLog.classid, &ClothLog.event_phase[p]));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothLogPhaseBegin(ClothSetUpPhase phase)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscLogStagePush(ClothLog.stage_phase[phase]));
+  PetscCall(PetscLogEventBegin(ClothLog.event_phase[phase], 0, 0, 0, 0));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothLogPhaseEnd(ClothSetUpPhase phase)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscLogEventEnd(ClothLog.event_phase[phase], 0, 0, 0, 0));
+  PetscCall(PetscLogStagePop());
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -4,6 +4,7 @@
 #include "scene.h"
 #include "run.h"
 #include "errors.h"
+#include "log.h"
 
 static const char help[] = "clothsim: woven fabric as a particle system (MPI + PETSc).\n"
                            "Usage: mpiexec -n P clothsim -scene input/NAME.yaml [options]\n"
@@ -55,7 +56,10 @@ int main(int argc, char **argv)
 
   PetscCall(PetscInitialize(&argc, &argv, NULL, help));
   PetscCall(GetScenePath(scene_path, sizeof(scene_path)));
+  PetscCall(ClothLogRegister());
+  PetscCall(ClothLogPhaseBegin(CLOTH_SETUP_SCENE));
   PetscCall(SceneCreateFromFile(PETSC_COMM_WORLD, scene_path, &scene));
+  PetscCall(ClothLogPhaseEnd(CLOTH_SETUP_SCENE));
   PetscCall(ClothRunCreate(PETSC_COMM_WORLD, scene, &run));
   PetscCall(ClothRunSetFromOptions(run));
   PetscCall(SceneView(scene, PETSC_VIEWER_STDOUT_WORLD));

@@ -516,6 +516,13 @@ PetscErrorCode ClothModelGetAdjacency(ClothModel model, PetscInt **xadj_out, Pet
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+PetscErrorCode ClothModelReleaseInteractions(ClothModel model)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscFree2(model->links, model->angles));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode ClothModelDestroy(ClothModel *model)
 {
   PetscFunctionBeginUser;

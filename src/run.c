@@ -424,13 +424,32 @@ static PetscErrorCode ClothRunClaimOutput(ClothRun run)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* Each rank now holds its own links and angle springs: the whole model's copies on every rank go (issue 25: memory
+   that every rank holds for the whole fabric). */
+static PetscErrorCode ClothRunReleaseModelInteractions(ClothRun run)
+{
+  ClothModel model;
+
+  PetscFunctionBeginUser;
+  PetscCall(ClothGetModel(run->cloth, &model));
+  PetscCall(ClothModelReleaseInteractions(model));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode ClothRunSetUp(ClothRun run)
 {
   PetscFunctionBeginUser;
   PetscCall(PetscLogStagePush(ClothLog.stage_setup));
+  PetscCall(ClothLogPhaseBegin(CLOTH_SETUP_OUTPUT));
   PetscCall(ClothRunClaimOutput(run));
+  PetscCall(ClothLogPhaseEnd(CLOTH_SETUP_OUTPUT));
   PetscCall(ClothSetUp(run->cloth));
-  if (run->collision) PetscCall(ClothCollisionSetUp(run->collision)); /* reads meshes, pushes out particles that start inside */
+  PetscCall(ClothRunReleaseModelInteractions(run));
+  if (run->collision) { /* reads meshes, pushes out particles that start inside */
+    PetscCall(ClothLogPhaseBegin(CLOTH_SETUP_BODIES));
+    PetscCall(ClothCollisionSetUp(run->collision));
+    PetscCall(ClothLogPhaseEnd(CLOTH_SETUP_BODIES));
+  }
   {
     PetscBool self_collision;
     PetscCall(ClothSelfContactGetEnabled(run->self_contact, &self_collision));
@@ -463,11 +482,15 @@ PetscErrorCode ClothRunSetUp(ClothRun run)
   PetscCall(PetscObjectSetName((PetscObject)run->natural_position, "position"));
   PetscCall(PetscObjectSetName((PetscObject)run->natural_velocity, "velocity"));
   if (run->restart[0]) PetscCall(ClothRunRestore(run));
+  PetscCall(ClothLogPhaseBegin(CLOTH_SETUP_MATRIX));
   PetscCall(ClothIntegratorSetUp(run->integrator));
+  PetscCall(ClothLogPhaseEnd(CLOTH_SETUP_MATRIX));
   if (run->restart[0]) PetscCall(ClothRunRestoreWarmStart(run));
   PetscCall(ClothRunResolveSteps(run));
+  PetscCall(ClothLogPhaseBegin(CLOTH_SETUP_OUTPUT));
   PetscCall(ClothRunOpenOutput(run));
   PetscCall(ClothRunAddBodyMeshes(run));
+  PetscCall(ClothLogPhaseEnd(CLOTH_SETUP_OUTPUT));
   PetscCall(PetscLogStagePop());
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -625,7 +648,9 @@ PetscErrorCode ClothRunSolve(ClothRun run)
 
   PetscFunctionBeginUser;
   PetscCall(PetscPrintf(run->comm, "Running %s: %" PetscInt_FMT " steps of %g s from step %" PetscInt_FMT "; output in %s\n", run->scene->name, run->steps, (double)run->dt, run->step, run->output_dir));
+  PetscCall(ClothLogPhaseBegin(CLOTH_SETUP_OUTPUT));
   PetscCall(ClothRunWriteFirstFrame(run));
+  PetscCall(ClothLogPhaseEnd(CLOTH_SETUP_OUTPUT));
   PetscCall(PetscLogStagePush(ClothLog.stage_steps));
   while (run->step < run->steps && !stop) {
     /* the scale at the end of the step, where implicit Euler evaluates the forces; a function of time alone,
