@@ -34,7 +34,8 @@ PetscErrorCode ClothSetFromOptions(Cloth cloth)
   PetscCall(PetscOptionsReal("-cloth_perturbation_wavelength", "Shortest wavelength, m, of a smooth -cloth_perturbation field, the same at any resolution (0: independent per particle)", "ClothModelPerturbPositions", cloth->perturbation_wavelength,
                              &cloth->perturbation_wavelength, NULL));
   PetscCall(PetscOptionsEnum("-cloth_stiffness",
-                             "Stiffness of the angle and twist elements in the implicit system: projected (the exact Hessian projected by an eigen-decomposition per element), gauss_newton (closed form, positive semidefinite, 7.9x less assembly), exact (indefinite: tests only)",
+                             "Stiffness of the angle and twist elements in the implicit system: projected (the exact Hessian projected by an eigen-decomposition per element), gauss_newton (closed form, positive semidefinite, 7.9x less assembly), "
+                             "exact (indefinite: tests only)",
                              "ClothAssembleImplicitSystem", ClothStiffnessTypes, (PetscEnum)cloth->stiffness, (PetscEnum *)&cloth->stiffness, NULL));
   PetscOptionsEnd();
   PetscCall(ClothOptionsCheckReal(cloth->comm, "-cloth_perturbation", cloth->perturbation, 0, PETSC_FALSE, PETSC_MAX_REAL, "m"));
@@ -472,6 +473,13 @@ PetscErrorCode ClothGetComm(Cloth cloth, MPI_Comm *comm)
 {
   PetscFunctionBeginUser;
   *comm = cloth->comm;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothGetScene(Cloth cloth, Scene *scene)
+{
+  PetscFunctionBeginUser;
+  *scene = cloth->scene;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
