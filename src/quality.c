@@ -135,7 +135,7 @@ static PetscErrorCode GatherToZero(Vec natural, PetscReal **values)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* "fit_maps": per piece, the maximum and 95th percentile over its particles of the strain, the stress (N/m)
+/* "fit_maps": per piece, in the scene's order, its particle count and the maximum and 95th percentile over its particles of the strain, the stress (N/m)
    and the contact pressure on the body (N/m^2; particles off the body count as 0). Rank 0 writes. */
 static PetscErrorCode WriteFitMaps(ClothRun run, FILE *fp)
 {
@@ -162,7 +162,7 @@ static PetscErrorCode WriteFitMaps(ClothRun run, FILE *fp)
   PetscCall(PetscFPrintf(comm, fp, "  \"fit_maps\": {\n"));
   if (rank == 0)
     for (PetscInt p = 0; p < model->npieces; p++) {
-      PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "    \"%s\": {", scene->pieces[p].name));
+      PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "    \"%s\": {\"particles\": %" PetscInt_FMT ", ", scene->pieces[p].name, model->piece_offset[p + 1] - model->piece_offset[p]));
       for (PetscInt f = 0; f < 3; f++) PetscCall(WriteFieldSummary(PETSC_COMM_SELF, fp, names[f], values[f], model->piece_offset[p], model->piece_offset[p + 1], f < 2 ? ", " : ""));
       PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "}%s\n", p + 1 < model->npieces ? "," : ""));
     }
