@@ -6,7 +6,8 @@ every player takes).
   /usr/bin/python3 postprocess/movie.py output/dress/dress.xdmf --out output/dress/dress.mp4
   /usr/bin/python3 postprocess/movie.py OUT.xdmf --out strain.mp4 --frames 30 --color-by strain --range 0 0.05
 
---frames N draws N frames spread evenly over the series (all of them when it has fewer), shown at --fps
+--frames N draws N frames spread evenly over the series (over its frames up to --t-max; all of them when
+there are no more), shown at --fps
 frames per second; --view, --color-by, --range and --zoom go to render.py (see its --help). Prints the
 frames drawn and the wall time of each stage. Needs pvpython, xvfb-run and ffmpeg (scripts/install_deps.sh).
 """
@@ -34,6 +35,7 @@ def parse_args(argv):
     p.add_argument("--color-by", default="piece", help="render.py fabric colouring (default piece: shaded as cloth)")
     p.add_argument("--range", type=float, nargs=2, metavar=("MIN", "MAX"), help="render.py colour range of a fit map")
     p.add_argument("--zoom", type=float, default=1.0, help="render.py camera zoom (default 1)")
+    p.add_argument("--t-max", type=float, help="only the frames up to this time, s (default: all)")
     args = p.parse_args(argv)
     try:
         w, h = (int(v) for v in args.size.lower().split("x"))
@@ -57,6 +59,8 @@ def render_frames(args, folder):
                "--color-by", args.color_by, "--zoom", str(args.zoom)]
     if args.range:
         command += ["--range"] + [str(v) for v in args.range]
+    if args.t_max is not None:
+        command += ["--t-max", str(args.t_max)]
     for attempt in range(5):
         run = subprocess.run(["xvfb-run", "-a", "-n", str(random.randint(200, 2200))] + command,
                              stdin=subprocess.DEVNULL, capture_output=True, text=True)

@@ -21,7 +21,8 @@ The fabric is coloured by (--color-by):
 Static meshes are light grey. Frames are numbered from 0; negative numbers count from the end (-1: the
 last). Prints the frame's time and the number of points and cells drawn.
 
-With --sequence N the tool draws N frames spread evenly over the series (all of them when it has no more)
+With --sequence N the tool draws N frames spread evenly over the series, or its frames up to --t-max (all of
+them when there are no more)
 with one camera, into --out as a printf pattern (frames_%04d.png): the pictures of a movie
 (postprocess/movie.py assembles them with ffmpeg).
 """
@@ -60,6 +61,7 @@ def parse_args(argv):
     p.add_argument("--color-by", choices=["speed", "none", "piece"] + list(FIT_MAPS), default="speed", help="fabric colouring (default speed)")
     p.add_argument("--range", type=float, nargs=2, metavar=("MIN", "MAX"), help="colour range of a fit map (default 0 .. 99th percentile)")
     p.add_argument("--sequence", type=int, default=0, help="draw this many frames spread over the series into --out, a printf pattern")
+    p.add_argument("--t-max", type=float, help="with --sequence: only the frames up to this time, s")
     p.add_argument("--edges", action="store_true", help="draw the fabric's quad edges")
     p.add_argument("--mesh", action="append", default=[], help="extra static mesh (OBJ, STL, VTK, ...) to draw; repeatable")
     p.add_argument("--mesh-scale", type=float, default=1.0, help="scale of the --mesh files (e.g. 0.1: decimetres to metres)")
@@ -276,7 +278,8 @@ def main(argv):
     times = list(reader.TimestepValues) if hasattr(reader.TimestepValues, "__len__") else [reader.TimestepValues]
     times = [t for t in times if t is not None] or [0.0]
     if args.sequence:
-        frames = sequence_frames(len(times), args.sequence)
+        kept = [t for t in times if args.t_max is None or t <= args.t_max] or times[:1]
+        frames = sequence_frames(len(kept), args.sequence)
     else:
         if not -len(times) <= args.frame < len(times):
             sys.exit(f"render.py: frame {args.frame} out of range: {args.xdmf} has {len(times)} frames")
