@@ -16,7 +16,10 @@ relation. `fabric_crossings_unjoined` is the count without this, for reference.
 
 With --check it also exits non-zero unless the garment meets the targets of issue 8: every seam closed
 (max_seam_gap_m < 0.002, all pairs sewn), no particle inside the body, no fabric crossing, max_link_strain
-< 0.10 and kinetic_energy_j below --ke-max (default 1e-3 J: at rest).
+< 0.10 and kinetic_energy_j below --ke-max (default 1e-3 J: at rest); and unless the summary of the fit maps
+that clothsim wrote (fit_maps: per piece the maximum and 95th percentile of strain, stress and pressure)
+agrees with numpy's maximum and percentile of the same fields in the last frame (the final state) to 1e-6
+relative (the JSON's 7 significant digits): two implementations of the one summary.
 
 With --worst N it lists where the garment falls short in that frame: the N most strained particles and
 N of the crossings, each particle named "piece (i, j)" from the pieces' grids in --scene (the run's own
@@ -99,6 +102,26 @@ def report_worst(n, hits, strain, name):
         print(f"  edge {' - '.join(name(p) for p in edge)}  through triangle {', '.join(name(p) for p in tri)}")
 
 
+def fit_map_deviation(h5path, fit_maps):
+    """The largest relative difference between quality.json's fit_maps and numpy's maximum and 95th percentile
+    (linear, numpy's default) of the fields of the last frame, piece by piece in the scene's order."""
+    with h5py.File(h5path, "r") as f:
+        frame = f["/frames/" + sorted(f["/frames"].keys())[-1]]
+        fields = {name: frame[name][:].ravel() for name in ("strain", "stress", "pressure")}
+    keys = {"strain": "strain", "stress": "stress_n_per_m", "pressure": "pressure_pa"}
+    worst, first = 0.0, 0
+    for summary in fit_maps.values():
+        last = first + summary["particles"]
+        for field, key in keys.items():
+            values = fields[field][first:last]
+            for mine, theirs in ((summary[key + "_max"], values.max()), (summary[key + "_p95"], np.percentile(values, 95))):
+                worst = max(worst, abs(mine - theirs) / max(abs(theirs), 1e-12))
+        first = last
+    if first != len(fields["strain"]):
+        return float("inf")
+    return worst
+
+
 def quality_json(quality):
     """The record as indented JSON, with seam_links (a long list of short lists) on one line."""
     text = json.dumps({key: value for key, value in quality.items() if key != "seam_links"}, indent=2)
@@ -141,6 +164,10 @@ def main():
         failures.append(f"max link strain {quality['max_link_strain']} >= 0.10")
     if not quality["kinetic_energy_j"] < args.ke_max:
         failures.append(f"kinetic energy {quality['kinetic_energy_j']} J >= {args.ke_max} J: not at rest")
+    deviation = fit_map_deviation(h5path, quality.get("fit_maps", {}))
+    print(f"fit_maps against numpy on frame {frame}: largest relative difference {deviation:.2e}")
+    if not deviation <= 1e-6:  # the JSON holds 7 significant digits (%.6e): 5e-7 relative
+        failures.append(f"fit_maps differ from the last frame's fields by {deviation:.2e} (relative)")
     for message in failures:
         print("garment_quality: FAILED: " + message)
     return 1 if failures else 0

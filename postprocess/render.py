@@ -8,9 +8,23 @@ angle. Runs under ParaView's Python, which needs an X server for rendering:
 
 Axes: y is up (DESIGN.md); the front is the +z side (the camera looks along -z), the side view looks
 along -x (from +x), the back along +z, the top down along -y. --up changes the up axis.
-The fabric is coloured by the particle speed |velocity| (--color-by speed, the default) or in one colour
-(--color-by none); static meshes are light grey. Frames are numbered from 0; negative numbers count
-from the end (-1: the last). Prints the frame's time and the number of points and cells drawn.
+The fabric is coloured by (--color-by):
+  piece     shaded as cloth: one fabric colour per pattern piece (the connected sets of quads of the series'
+            topology, in the order of the scene), lit, with smooth normals (ParaView's surface normals)
+  strain, stress, pressure
+            a fit map: the per-particle fields of the series (relative stretch, membrane stress N/m, contact
+            pressure on the body N/m^2), with a colour bar; the range is --range MIN MAX, else 0 up to the
+            99th percentile of the frame (a few contact peaks would wash the rest out), values above drawn
+            in the top colour
+  speed     the particle speed |velocity| (the default)
+  none      one colour
+Static meshes are light grey. Frames are numbered from 0; negative numbers count from the end (-1: the
+last). Prints the frame's time and the number of points and cells drawn.
+
+With --sequence N the tool draws N frames spread evenly over the series, or its frames up to --t-max (all of
+them when there are no more)
+with one camera, into --out as a printf pattern (frames_%04d.png): the pictures of a movie
+(postprocess/movie.py assembles them with ffmpeg).
 """
 import argparse
 import os
@@ -26,6 +40,16 @@ VIEWS = {  # camera direction (from the focal point towards the camera), view up
 }
 
 
+FIT_MAPS = {  # field: colour bar title
+    "strain": "strain (l - l0) / l0",
+    "stress": "stress, N/m",
+    "pressure": "pressure on the body, N/m^2",
+}
+# Fabric colours of --color-by piece, one per pattern piece in turn: muted dyed cottons.
+FABRIC_COLOURS = [(0.62, 0.16, 0.20), (0.18, 0.32, 0.55), (0.80, 0.62, 0.30), (0.25, 0.48, 0.36),
+                  (0.50, 0.30, 0.55), (0.85, 0.45, 0.35), (0.35, 0.55, 0.70), (0.55, 0.50, 0.40)]
+
+
 def parse_args(argv):
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("xdmf", help="NAME.xdmf written by clothsim")
@@ -34,7 +58,10 @@ def parse_args(argv):
     p.add_argument("--up", choices=["x", "y", "z"], default="y", help="the up axis of the scene (default y)")
     p.add_argument("--size", default="1000x1000", help="image size WIDTHxHEIGHT in pixels (default 1000x1000)")
     p.add_argument("--out", required=True, help="the PNG to write")
-    p.add_argument("--color-by", choices=["speed", "none"], default="speed", help="fabric colouring (default speed)")
+    p.add_argument("--color-by", choices=["speed", "none", "piece"] + list(FIT_MAPS), default="speed", help="fabric colouring (default speed)")
+    p.add_argument("--range", type=float, nargs=2, metavar=("MIN", "MAX"), help="colour range of a fit map (default 0 .. 99th percentile)")
+    p.add_argument("--sequence", type=int, default=0, help="draw this many frames spread over the series into --out, a printf pattern")
+    p.add_argument("--t-max", type=float, help="with --sequence: only the frames up to this time, s")
     p.add_argument("--edges", action="store_true", help="draw the fabric's quad edges")
     p.add_argument("--mesh", action="append", default=[], help="extra static mesh (OBJ, STL, VTK, ...) to draw; repeatable")
     p.add_argument("--mesh-scale", type=float, default=1.0, help="scale of the --mesh files (e.g. 0.1: decimetres to metres)")
@@ -51,6 +78,8 @@ def parse_args(argv):
     args.background = [float(v) for v in args.background.split(",")]
     if not os.path.exists(args.xdmf):
         p.error(f"{args.xdmf} not found")
+    if args.sequence < 0 or (args.sequence and "%" not in args.out):
+        p.error("--sequence N needs N >= 1 and --out with a frame-number pattern, e.g. frames/frame_%04d.png")
     return args
 
 
@@ -84,30 +113,94 @@ def split_blocks(data):
     return out
 
 
-def main(argv):
-    args = parse_args(argv)
-    from paraview import simple as pv
-    import vtk
+def piece_labels(block):
+    """Per point, the index of its pattern piece: the connected sets of the fabric's cells (seams are links, not
+    cells), numbered by their lowest point, which follows the scene's order of pieces."""
+    import numpy as np
+    from vtk.util.numpy_support import vtk_to_numpy
+    n = block.GetNumberOfPoints()
+    parent = np.arange(n)
 
-    reader = pv.XDMFReader(FileNames=[os.path.abspath(args.xdmf)])
-    times = list(reader.TimestepValues) if hasattr(reader.TimestepValues, "__len__") else [reader.TimestepValues]
-    times = [t for t in times if t is not None] or [0.0]
-    try:
-        time = times[args.frame]
-    except IndexError:
-        sys.exit(f"render.py: frame {args.frame} out of range: {args.xdmf} has {len(times)} frames")
-    algorithm = reader.GetClientSideObject()   # pvpython runs builtin: the VTK reader itself
+    def root(a):
+        while parent[a] != a:
+            parent[a] = parent[parent[a]]
+            a = parent[a]
+        return a
+    cells = vtk_to_numpy(block.GetCells().GetData()) if hasattr(block, "GetCells") else None
+    offset = 0
+    while cells is not None and offset < len(cells):
+        count = cells[offset]
+        ids = cells[offset + 1:offset + 1 + count]
+        first = root(ids[0])
+        for other in ids[1:]:
+            r = root(other)
+            if r != first:
+                parent[max(r, first)] = min(r, first)
+                first = min(r, first)
+        offset += count + 1
+    roots = np.array([root(a) for a in range(n)])
+    _, labels = np.unique(roots, return_inverse=True)
+    return labels
+
+
+def colour_fabric(pv, view, display, block, args, source):
+    """Colours one fabric block as --color-by asks; returns the pipeline object to show (smooth normals for
+    piece)."""
+    import numpy as np
+    from vtk.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+    if args.color_by == "piece":
+        labels = piece_labels(block)
+        array = numpy_to_vtk(labels.astype(np.float64), deep=True)
+        array.SetName("piece")
+        block.GetPointData().AddArray(array)
+        npieces = int(labels.max()) + 1
+        pv.ColorBy(display, ("POINTS", "piece"))
+        lut = pv.GetColorTransferFunction("piece")
+        lut.InterpretValuesAsCategories = 1
+        lut.Annotations = sum(([str(k), str(k)] for k in range(npieces)), [])
+        lut.IndexedColors = sum((list(FABRIC_COLOURS[k % len(FABRIC_COLOURS)]) for k in range(npieces)), [])
+        display.SetScalarBarVisibility(view, False)
+        display.Specular = 0.05   # cotton: matt
+        display.Ambient = 0.15
+        display.Diffuse = 0.85
+        display.Interpolation = "Gouraud"
+        return
+    if args.color_by in FIT_MAPS and block.GetPointData().GetArray(args.color_by) is not None:
+        field = args.color_by
+        values = vtk_to_numpy(block.GetPointData().GetArray(field)).ravel()
+        lo, hi = args.range if args.range else (0.0, float(np.percentile(values, 99)) if len(values) else 1.0)
+        if hi <= lo:
+            hi = lo + (1e-12 if lo == 0 else abs(lo) * 1e-6)
+        pv.ColorBy(display, ("POINTS", field))
+        lut = pv.GetColorTransferFunction(field)
+        lut.ApplyPreset("Turbo" if field != "strain" else "Viridis (matplotlib)", True)
+        lut.RescaleTransferFunction(lo, hi)
+        lut.AutomaticRescaleRangeMode = "Never"
+        bar = pv.GetScalarBar(lut, view)
+        bar.Title = FIT_MAPS[field]
+        bar.ComponentTitle = ""
+        bar.TitleColor = bar.LabelColor = [0.1, 0.1, 0.1]
+        display.SetScalarBarVisibility(view, True)
+        return
+    if args.color_by == "speed" and block.GetPointData().GetArray("velocity") is not None:
+        pv.ColorBy(display, ("POINTS", "velocity", "Magnitude"))
+        lut = pv.GetColorTransferFunction("velocity")
+        lut.ApplyPreset("Viridis (matplotlib)", True)
+        display.RescaleTransferFunctionToDataRange(True, False)
+        bar = pv.GetScalarBar(lut, view)
+        bar.Title = "speed, m/s"
+        bar.ComponentTitle = ""
+        bar.TitleColor = bar.LabelColor = [0.1, 0.1, 0.1]
+        display.SetScalarBarVisibility(view, True)
+        return
+    solid_colour(display, (0.75, 0.25, 0.2))
+
+
+def draw_frame(pv, view, algorithm, time, args):
+    """Shows the blocks of the series at time; returns (the sources shown, points, cells, fabric seen)."""
     algorithm.UpdateTimeStep(time)
     data = algorithm.GetOutputDataObject(0)
-
-    view = pv.CreateView("RenderView")
-    view.ViewSize = [args.width, args.height]
-    view.OrientationAxesVisibility = 0
-    view.Background = args.background
-    if hasattr(view, "UseColorPaletteForBackground"):
-        view.UseColorPaletteForBackground = 0
-    npoints = ncells = 0
-    fabric_seen = False
+    shown, npoints, ncells, fabric_seen = [], 0, 0, False
     for name, block in split_blocks(data):
         if block is None or block.GetNumberOfPoints() == 0:
             continue
@@ -115,30 +208,32 @@ def main(argv):
         copy.DeepCopy(block)
         source = pv.TrivialProducer()
         source.GetClientSideObject().SetOutput(copy)
-        display = pv.Show(source, view)
+        shown.append(source)
         npoints += copy.GetNumberOfPoints()
         ncells += copy.GetNumberOfCells()
         if name.startswith("fabric"):
             fabric_seen = True
+            if args.color_by == "piece":   # smooth shading: point normals averaged over the cells around
+                surface = pv.ExtractSurface(Input=source)
+                smooth = pv.GenerateSurfaceNormals(Input=surface)
+                smooth.Splitting = 0
+                shown += [surface, smooth]
+                display = pv.Show(smooth, view)
+            else:
+                display = pv.Show(source, view)
             if args.edges:
                 display.SetRepresentationType("Surface With Edges")
                 display.EdgeColor = [0.2, 0.2, 0.2]
-            if args.color_by == "speed" and copy.GetPointData().GetArray("velocity") is not None:
-                pv.ColorBy(display, ("POINTS", "velocity", "Magnitude"))
-                lut = pv.GetColorTransferFunction("velocity")
-                lut.ApplyPreset("Viridis (matplotlib)", True)
-                display.RescaleTransferFunctionToDataRange(True, False)
-                bar = pv.GetScalarBar(lut, view)
-                bar.Title = "speed, m/s"
-                bar.ComponentTitle = ""
-                bar.TitleColor = bar.LabelColor = [0.1, 0.1, 0.1]
-                display.SetScalarBarVisibility(view, True)
-            else:
-                solid_colour(display, (0.75, 0.25, 0.2))
+            colour_fabric(pv, view, display, copy, args, source)
         else:
+            display = pv.Show(source, view)
             solid_colour(display, (0.8, 0.8, 0.8))
-    if not fabric_seen:
-        print(f"render.py: warning: no fabric block in {args.xdmf} at t = {time}", file=sys.stderr)
+    return shown, npoints, ncells, fabric_seen
+
+
+def add_meshes(pv, view, args):
+    """The extra --mesh files; returns (points, cells)."""
+    npoints = ncells = 0
     for path in args.mesh:
         mesh = pv.OpenDataFile(path)
         if mesh is None:
@@ -151,13 +246,10 @@ def main(argv):
         mesh.UpdatePipeline()
         npoints += mesh.GetDataInformation().GetNumberOfPoints()
         ncells += mesh.GetDataInformation().GetNumberOfCells()
-    if not args.no_label:
-        label = pv.Text(Text=f"t = {time:.3f} s  ({os.path.basename(args.xdmf)}, frame {times.index(time)} of {len(times)})")
-        text = pv.Show(label, view)
-        text.FontSize = 14
-        text.Color = [0.1, 0.1, 0.1]
-        text.WindowLocation = "Upper Left Corner"
+    return npoints, ncells
 
+
+def place_camera(pv, view, args):
     direction, up = VIEWS[args.view]
     direction, up = rotate_to_up(direction, args.up), rotate_to_up(up, args.up)
     view.CameraFocalPoint = [0, 0, 0]
@@ -167,9 +259,63 @@ def main(argv):
     view.ResetCamera(False)
     if args.zoom != 1.0:
         pv.GetActiveCamera().Zoom(args.zoom)
-    pv.SaveScreenshot(args.out, view, ImageResolution=[args.width, args.height])
-    print(f"render.py: {args.out}: {args.width}x{args.height}, view {args.view}, t = {time:g} s "
-          f"(frame {times.index(time)} of {len(times)}), {npoints} points, {ncells} cells")
+
+
+def sequence_frames(nframes, count):
+    """count frame indices spread evenly over nframes (all of them when count >= nframes), first and last kept."""
+    if count >= nframes or nframes == 1:
+        return list(range(nframes))
+    if count == 1:
+        return [nframes - 1]
+    return sorted({round(k * (nframes - 1) / (count - 1)) for k in range(count)})
+
+
+def main(argv):
+    args = parse_args(argv)
+    from paraview import simple as pv
+
+    reader = pv.XDMFReader(FileNames=[os.path.abspath(args.xdmf)])
+    times = list(reader.TimestepValues) if hasattr(reader.TimestepValues, "__len__") else [reader.TimestepValues]
+    times = [t for t in times if t is not None] or [0.0]
+    if args.sequence:
+        kept = [t for t in times if args.t_max is None or t <= args.t_max] or times[:1]
+        frames = sequence_frames(len(kept), args.sequence)
+    else:
+        if not -len(times) <= args.frame < len(times):
+            sys.exit(f"render.py: frame {args.frame} out of range: {args.xdmf} has {len(times)} frames")
+        frames = [args.frame % len(times)]
+    algorithm = reader.GetClientSideObject()   # pvpython runs builtin: the VTK reader itself
+
+    view = pv.CreateView("RenderView")
+    view.ViewSize = [args.width, args.height]
+    view.OrientationAxesVisibility = 0
+    view.Background = args.background
+    if hasattr(view, "UseColorPaletteForBackground"):
+        view.UseColorPaletteForBackground = 0
+    extra_points, extra_cells = add_meshes(pv, view, args)
+    label = text = None
+    if not args.no_label:
+        label = pv.Text()
+        text = pv.Show(label, view)
+        text.FontSize = 14
+        text.Color = [0.1, 0.1, 0.1]
+        text.WindowLocation = "Upper Left Corner"
+    shown = []
+    for count, frame in enumerate(frames):
+        time = times[frame]
+        for source in reversed(shown):
+            pv.Delete(source)
+        shown, npoints, ncells, fabric_seen = draw_frame(pv, view, algorithm, time, args)
+        if not fabric_seen:
+            print(f"render.py: warning: no fabric block in {args.xdmf} at t = {time}", file=sys.stderr)
+        if label is not None:
+            label.Text = f"t = {time:.3f} s  ({os.path.basename(args.xdmf)}, frame {frame} of {len(times)})"
+        if count == 0:  # one camera for a whole sequence, fitted to its first frame
+            place_camera(pv, view, args)
+        out = args.out % count if args.sequence else args.out
+        pv.SaveScreenshot(out, view, ImageResolution=[args.width, args.height])
+        print(f"render.py: {out}: {args.width}x{args.height}, view {args.view}, t = {time:g} s "
+              f"(frame {frame} of {len(times)}), {npoints + extra_points} points, {ncells + extra_cells} cells")
 
 
 if __name__ == "__main__":

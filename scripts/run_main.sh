@@ -8,10 +8,12 @@ set -euo pipefail
 # The main job: the dress assembled on the mannequin (input/dress.yaml) on 2 ranks, about 27 s on two
 # idle cores. Switch the scene (and options) here; results go to output/NAME (NAME from the scene's
 # "name:") or -output_dir. For a garment (a scene with seams) the run writes quality.json, and this
-# script completes it and renders front, side and back views beside the XDMF. -output_overwrite: each
+# script completes it, renders front, side and back views shaded as cloth, front and back views of the fit
+# maps (strain, pressure on the body) and a movie of the assembly (NAME.mp4) beside the XDMF. -output_overwrite: each
 # run of this script replaces the previous results (clothsim refuses that otherwise). -cloth_stiffness
-# gauss_newton: the closed-form element stiffness, 2.1x faster here (docs/performance.md).
-MAIN_JOB=(mpiexec -n 2 build/clothsim -scene input/dress.yaml -output_overwrite -cloth_stiffness gauss_newton)
+# gauss_newton: the closed-form element stiffness, 2.1x faster here (docs/performance.md). -output_every 3: a
+# frame every 0.024 s at the scene's 8 ms step (209 frames, about 47 MB), so that the movie shows the seams closing.
+MAIN_JOB=(mpiexec -n 2 build/clothsim -scene input/dress.yaml -output_overwrite -cloth_stiffness gauss_newton -output_every 3)
 
 cd "$(dirname "$0")/.."
 bash scripts/install_deps.sh
@@ -37,13 +39,33 @@ output_dir=${output_dir:-output/$name}
 echo "run_main: ${job[*]}"
 "${job[@]}"
 
+# Rendering needs an X server (ParaView 5.11's pvpython crashes with --force-offscreen-rendering): a virtual one.
+# xvfb-run -a can lose the race for a display number to another X server starting at the same moment: a
+# random start and up to three tries.
+render() {  # render VIEW COLOUR OUT.png
+  for try in 1 2 3; do
+    xvfb-run -a -n $((200 + RANDOM % 2000)) /usr/bin/pvpython postprocess/render.py "$output_dir/$name.xdmf" --frame -1 \
+      --view "$1" --color-by "$2" --size 800x1100 --out "$3" < /dev/null > "$3.log" 2>&1 && { tail -n 1 "$3.log"; rm -f "$3.log"; return 0; }
+    sleep "$try"
+  done
+  echo "run_main: the $2 render from the $1 failed (is xvfb installed?), see $3.log"
+}
+
 if [ -f "$output_dir/quality.json" ]; then
   /usr/bin/python3 postprocess/garment_quality.py "$output_dir" --name "$name" || true
+  # The garment shaded as cloth (a colour per pattern piece), then its fit maps: strain and the pressure on the body.
   for view in front side back; do
-    # Rendering needs an X server (ParaView 5.11's pvpython crashes with --force-offscreen-rendering): a virtual one.
-    xvfb-run -a /usr/bin/pvpython postprocess/render.py "$output_dir/$name.xdmf" --frame -1 --view "$view" \
-      --size 800x1100 --out "$output_dir/${name}_$view.png" || echo "run_main: the $view render failed (is xvfb installed?)"
+    render "$view" piece "$output_dir/${name}_$view.png"
   done
+  for map in strain pressure; do
+    for view in front back; do
+      render "$view" "$map" "$output_dir/${name}_${map}_$view.png"
+    done
+  done
+  # The movie of the assembly: the frames of the first 1.2 s (51: the pull, the sewing, the dress settling),
+  # 640x480 at 12 per second, about a minute and a half on two cores.
+  /usr/bin/python3 postprocess/movie.py "$output_dir/$name.xdmf" --out "$output_dir/$name.mp4" --frames 51 --t-max 1.2 \
+    --size 640x480 --view iso < /dev/null || echo "run_main: the movie failed (are xvfb and ffmpeg installed?)"
 fi
 
 cat <<MSG
@@ -51,7 +73,10 @@ cat <<MSG
 Results in $output_dir:
   $name.xdmf + $name.h5        time series (positions, velocities, quads) for ParaView
   checkpoint_NNNNNN.h5         the final state (continue with -restart FILE)
-  quality.json, ${name}_front.png, _side.png, _back.png   for a garment: its measured quality and renders
+  quality.json                 for a garment: its measured quality, with the fit maps per piece (fit_maps)
+  ${name}_front.png, _side.png, _back.png      for a garment: renders shaded as cloth, a colour per piece
+  ${name}_strain_front.png, _back.png, ${name}_pressure_front.png, _back.png   its fit maps
+  $name.mp4                    the assembly, up to 60 frames at 12 per second
 Open in ParaView:    paraview $output_dir/$name.xdmf     (reader: "Xdmf3 Reader S" or "XDMF Reader")
 Without a display:   xvfb-run -a pvpython -c "from paraview.simple import *; r = Xdmf3ReaderS(FileName='$output_dir/$name.xdmf'); r.UpdatePipeline(); print(r.TimestepValues)"
 Inspect the data:    h5ls -r $output_dir/$name.h5

@@ -428,13 +428,6 @@ PetscErrorCode ClothGetLayout(Cloth cloth, ClothLayout *layout)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode ClothGetScene(Cloth cloth, Scene *scene)
-{
-  PetscFunctionBeginUser;
-  *scene = cloth->scene;
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
 PetscErrorCode ClothIsSetUp(Cloth cloth, PetscBool *setup)
 {
   PetscFunctionBeginUser;
@@ -524,6 +517,13 @@ PetscErrorCode ClothGetComm(Cloth cloth, MPI_Comm *comm)
 {
   PetscFunctionBeginUser;
   *comm = cloth->comm;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothGetScene(Cloth cloth, Scene *scene)
+{
+  PetscFunctionBeginUser;
+  *scene = cloth->scene;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -137,8 +137,6 @@ typedef struct {
 } ClothLayout;
 /* After ClothSetUp. */
 PetscErrorCode ClothGetLayout(Cloth cloth, ClothLayout *layout);
-/* The scene the cloth was created from (borrowed). */
-PetscErrorCode ClothGetScene(Cloth cloth, Scene *scene);
 /* Whether ClothSetUp has run. */
 PetscErrorCode ClothIsSetUp(Cloth cloth, PetscBool *setup);
 /* The contact normals if any particle was ever constrained by a body contact (else NULL; ClothGetContactNormals
@@ -187,6 +185,17 @@ PetscErrorCode ClothScatterParticleValuesToNatural(Cloth cloth, Vec solver, Vec 
    a Vec from ClothCreateStrainVec. position (solver numbering) gets its ghosts refreshed. Collective. */
 PetscErrorCode ClothCreateStrainVec(Cloth cloth, Vec *strain);
 PetscErrorCode ClothComputeStrain(Cloth cloth, Vec position, Vec strain);
+/* Fit maps for output (cloth_strain.c), in Vecs like ClothCreateStrainVec's. Stress: per particle, the largest
+   membrane stress of its stretch links, N/m: the link's tension over the width of fabric it carries (the mean
+   spacing of the threads beside it, as its stiffness E w / l0 takes it), so E times the strain for a linear
+   fabric. position as for ClothComputeStrain. Collective. */
+PetscErrorCode ClothComputeStress(Cloth cloth, Vec position, Vec stress);
+/* The fabric area of every particle in natural order (nparticles entries): a quarter of each grid cell it is a
+   corner of, at the initial positions. Not collective. */
+PetscErrorCode ClothComputeParticleAreas(Cloth cloth, PetscReal area[]);
+/* Contact pressure, N/m^2: per particle the body's normal force on it (normal_force per owned particle, as
+   ClothCollisionGetNormalForces gives it; NULL: no bodies, all zero) over its fabric area. Collective. */
+PetscErrorCode ClothComputeContactPressure(Cloth cloth, const PetscReal normal_force[], Vec pressure);
 /* This rank's seam links (seam.h; local particle numbering) and their indices in the model, for the
    sewing phases to set their stiffness. Borrowed. */
 PetscErrorCode ClothGetSeamLinks(Cloth cloth, PetscInt *n, ClothSeamLink **links, const PetscInt **model_index);
@@ -200,6 +209,8 @@ PetscErrorCode ClothGetLocalPositionArray(Cloth cloth, const PetscScalar **x);
 PetscErrorCode ClothRestoreLocalPositionArray(Cloth cloth, const PetscScalar **x);
 /* The global model (every rank holds it; read-only): topology for output, counts. */
 PetscErrorCode ClothGetModel(Cloth cloth, ClothModel *model);
+/* The scene the cloth was built from (borrowed). */
+PetscErrorCode ClothGetScene(Cloth cloth, Scene *scene);
 /* The communicator the cloth lives on (the one given to ClothCreate): the objects built on the cloth use it. */
 PetscErrorCode ClothGetComm(Cloth cloth, MPI_Comm *comm);
 /* Names natural particle g as "piece (i, j)": its piece and grid node, for diagnostics. Not collective. */

@@ -1,21 +1,39 @@
-/* Cloth: per-particle strain for visualisation (see cloth.h).
+/* Cloth: the per-particle fields of the fit maps, for output (see cloth.h).
 
-   The strain of a particle is the largest relative elongation (l - l0) / l0 of its stretch links
-   (the links to its grid neighbours along warp and weft): what ParaView colours to show where the
-   fabric is pulled. Each link is evaluated on the rank that evaluates its forces; a particle owned
-   elsewhere gets the value through a MAX reduction of the ghosts. */
+   Strain: the largest relative elongation (l - l0) / l0 of the particle's stretch links (the links to its grid
+   neighbours along warp and weft): where the fabric is pulled. Stress: the largest membrane stress of those
+   links, the link's tension over the width of fabric it carries (N/m): where the fabric pulls. Each link is
+   evaluated on the rank that evaluates its forces; a particle owned elsewhere gets the value through a MAX
+   reduction of the ghosts. Pressure: the normal force a body exerts on the particle (collision.h) over the
+   particle's fabric area (N/m^2): where the garment presses on the body. */
 #include "cloth_impl.h"
+#include "vec3.h"
+
+typedef enum {
+  CLOTH_STRETCH_STRAIN, /* (l - l0) / l0 */
+  CLOTH_STRETCH_STRESS  /* tension / width, N/m */
+} ClothStretchMeasure;
+
+/* The piece of natural particle a. */
+static PetscInt ClothPieceOf(Cloth cloth, PetscInt a)
+{
+  const ClothModel m     = cloth->model;
+  PetscInt         piece = 0;
+
+  while (piece + 1 < m->npieces && a >= m->piece_offset[piece + 1]) piece++;
+  return piece;
+}
 
 /* Is the link between natural particles a and b a stretch link, i.e. do they sit at (i, j) and
    (i +- 1, j) or (i, j +- 1) of one piece? Bending links skip a node, shear links are diagonal and
-   links between two pieces are seams, so none of those is a stretch link. */
-static PetscErrorCode ClothIsStretchLink(Cloth cloth, PetscInt a, PetscInt b, PetscBool *stretch)
+   links between two pieces are seams, so none of those is a stretch link. along_u: it runs along i. */
+static PetscErrorCode ClothIsStretchLink(Cloth cloth, PetscInt a, PetscInt b, PetscBool *stretch, PetscBool *along_u)
 {
   const ClothModel m     = cloth->model;
-  PetscInt         piece = 0, nu, la, lb, di, dj;
+  const PetscInt   piece = ClothPieceOf(cloth, a);
+  PetscInt         nu, la, lb, di, dj;
 
   PetscFunctionBeginUser;
-  while (piece + 1 < m->npieces && a >= m->piece_offset[piece + 1]) piece++;
   *stretch = PETSC_FALSE;
   if (b < m->piece_offset[piece] || b >= m->piece_offset[piece + 1]) PetscFunctionReturn(PETSC_SUCCESS);
   nu       = cloth->scene->pieces[piece].nu;
@@ -24,28 +42,78 @@ static PetscErrorCode ClothIsStretchLink(Cloth cloth, PetscInt a, PetscInt b, Pe
   di       = PetscAbsInt(la % nu - lb % nu);
   dj       = PetscAbsInt(la / nu - lb / nu);
   *stretch = (PetscBool)(di + dj == 1);
+  *along_u = (PetscBool)(di == 1);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* Per local particle (owned and ghosts), 3 entries each: the largest strain of this rank's stretch
-   links at it, in all three entries; -PETSC_MAX_REAL where this rank has none. */
-static PetscErrorCode ClothStrainLocal(Cloth cloth, const PetscScalar x[], PetscScalar s[])
+/* The width of fabric a thread carries at natural particle a, across the direction along_u: the mean distance
+   to its neighbours across (the one neighbour on a piece's edge), at the initial positions. model.c's
+   ThreadWidth sets the stretch links' stiffness E w / l0 from the same width (there from the flat pattern: the
+   two differ by the chord-to-arc ratio on a piece wrapped round an arm, under 1 % at 20 particles round), so
+   that the stress of a link is E times its strain also on a piece's edge. */
+static PetscReal ClothThreadWidth(Cloth cloth, PetscInt a, PetscBool along_u)
+{
+  const ClothModel m     = cloth->model;
+  const PetscInt   piece = ClothPieceOf(cloth, a);
+  const PetscInt   nu = cloth->scene->pieces[piece].nu, nv = cloth->scene->pieces[piece].nv;
+  const PetscInt   la = a - m->piece_offset[piece], i = la % nu, j = la / nu;
+  const PetscInt   stride = along_u ? nu : 1, index = along_u ? j : i, count = along_u ? nv : nu;
+  PetscReal        sum = 0;
+  PetscInt         n   = 0;
+
+  for (PetscInt s = -1; s <= 1; s += 2) {
+    PetscReal d[3];
+
+    if (index + s < 0 || index + s >= count) continue;
+    Sub3(&m->position[3 * (a + s * stride)], &m->position[3 * a], d);
+    sum += PetscSqrtReal(Dot3(d, d));
+    n++;
+  }
+  return n ? sum / n : 0;
+}
+
+/* The measure of one stretch link at positions xa, xb (natural ends a, b). */
+static PetscErrorCode ClothStretchLinkValue(Cloth cloth, const ClothLink *link, PetscInt a, PetscInt b, PetscBool along_u, const PetscReal xa[3], const PetscReal xb[3], ClothStretchMeasure measure, PetscReal *value)
+{
+  PetscReal d[3], f[3], l, width;
+
+  PetscFunctionBeginUser;
+  Sub3(xb, xa, d);
+  l = PetscSqrtReal(Dot3(d, d));
+  if (measure == CLOTH_STRETCH_STRAIN) {
+    *value = (l - link->rest) / link->rest;
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
+  width  = 0.5 * (ClothThreadWidth(cloth, a, along_u) + ClothThreadWidth(cloth, b, along_u));
+  *value = 0;
+  if (l == 0 || width == 0) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(ClothLinkEvaluate(link, xa, xb, PETSC_FALSE, NULL, f, NULL));
+  *value = -Dot3(f, d) / (l * width); /* the force on b along b - a is minus the tension */
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Per local particle (owned and ghosts), 3 entries each: the largest measure of this rank's stretch links at
+   it, in all three entries; -PETSC_MAX_REAL where this rank has none. */
+static PetscErrorCode ClothStretchLocal(Cloth cloth, const PetscScalar x[], ClothStretchMeasure measure, PetscScalar s[])
 {
   PetscFunctionBeginUser;
   for (PetscInt i = 0; i < 3 * (cloth->nlocal + cloth->nghost); i++) s[i] = -PETSC_MAX_REAL;
   for (PetscInt l = 0; l < cloth->nlinks; l++) {
     const ClothLink *link = &cloth->links[l];
     const PetscInt   a = link->p[0], b = link->p[1];
-    PetscBool        stretch;
-    PetscReal        d2 = 0, strain;
+    PetscBool        stretch, along_u;
+    PetscReal        xa[3], xb[3], value;
 
-    PetscCall(ClothIsStretchLink(cloth, cloth->natural_of_local[a], cloth->natural_of_local[b], &stretch));
+    PetscCall(ClothIsStretchLink(cloth, cloth->natural_of_local[a], cloth->natural_of_local[b], &stretch, &along_u));
     if (!stretch) continue;
-    for (PetscInt c = 0; c < 3; c++) d2 += PetscSqr(PetscRealPart(x[3 * b + c] - x[3 * a + c]));
-    strain = (PetscSqrtReal(d2) - link->rest) / link->rest;
     for (PetscInt c = 0; c < 3; c++) {
-      s[3 * a + c] = PetscMax(PetscRealPart(s[3 * a + c]), strain);
-      s[3 * b + c] = PetscMax(PetscRealPart(s[3 * b + c]), strain);
+      xa[c] = PetscRealPart(x[3 * a + c]);
+      xb[c] = PetscRealPart(x[3 * b + c]);
+    }
+    PetscCall(ClothStretchLinkValue(cloth, link, cloth->natural_of_local[a], cloth->natural_of_local[b], along_u, xa, xb, measure, &value));
+    for (PetscInt c = 0; c < 3; c++) {
+      s[3 * a + c] = PetscMax(PetscRealPart(s[3 * a + c]), value);
+      s[3 * b + c] = PetscMax(PetscRealPart(s[3 * b + c]), value);
     }
   }
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -63,7 +131,8 @@ PetscErrorCode ClothCreateStrainVec(Cloth cloth, Vec *strain)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode ClothComputeStrain(Cloth cloth, Vec position, Vec strain)
+/* The stretch-link field of the measure, natural order, one value per particle. */
+static PetscErrorCode ClothComputeStretchField(Cloth cloth, Vec position, ClothStretchMeasure measure, Vec field)
 {
   Vec                work, work_local;
   const PetscScalar *x;
@@ -78,7 +147,7 @@ PetscErrorCode ClothComputeStrain(Cloth cloth, Vec position, Vec strain)
   PetscCall(VecGhostGetLocalForm(work, &work_local));
   PetscCall(VecGetArrayRead(position_local, &x));
   PetscCall(VecGetArrayWrite(work_local, &s));
-  PetscCall(ClothStrainLocal(cloth, x, s));
+  PetscCall(ClothStretchLocal(cloth, x, measure, s));
   PetscCall(VecRestoreArrayWrite(work_local, &s));
   PetscCall(VecRestoreArrayRead(position_local, &x));
   PetscCall(VecGhostRestoreLocalForm(work, &work_local));
@@ -90,7 +159,63 @@ PetscErrorCode ClothComputeStrain(Cloth cloth, Vec position, Vec strain)
   for (PetscInt i = 0; i < 3 * cloth->nlocal; i++)
     if (PetscRealPart(s[i]) == -PETSC_MAX_REAL) s[i] = 0;
   PetscCall(VecRestoreArray(work, &s));
-  PetscCall(ClothScatterParticleValuesToNatural(cloth, work, strain));
+  PetscCall(ClothScatterParticleValuesToNatural(cloth, work, field));
   PetscCall(VecDestroy(&work));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothComputeStrain(Cloth cloth, Vec position, Vec strain)
+{
+  PetscFunctionBeginUser;
+  PetscCall(ClothComputeStretchField(cloth, position, CLOTH_STRETCH_STRAIN, strain));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothComputeStress(Cloth cloth, Vec position, Vec stress)
+{
+  PetscFunctionBeginUser;
+  PetscCall(ClothComputeStretchField(cloth, position, CLOTH_STRETCH_STRESS, stress));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothComputeParticleAreas(Cloth cloth, PetscReal area[])
+{
+  const ClothModel m = cloth->model;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscArrayzero(area, m->nparticles));
+  for (PetscInt q = 0; q < m->nquads; q++) {
+    const PetscInt *c = &m->quads[4 * q];
+    PetscReal       d1[3], d2[3], n[3], quarter;
+
+    Sub3(&m->position[3 * c[2]], &m->position[3 * c[0]], d1);
+    Sub3(&m->position[3 * c[3]], &m->position[3 * c[1]], d2);
+    Cross3(d1, d2, n);
+    quarter = 0.125 * PetscSqrtReal(Dot3(n, n)); /* a quad's area is half its diagonals' cross product */
+    for (PetscInt k = 0; k < 4; k++) area[c[k]] += quarter;
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothComputeContactPressure(Cloth cloth, const PetscReal normal_force[], Vec pressure)
+{
+  Vec          work;
+  PetscScalar *p;
+  PetscReal   *area;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMalloc1(cloth->model->nparticles, &area));
+  PetscCall(ClothComputeParticleAreas(cloth, area));
+  PetscCall(ClothCreateStateVec(cloth, &work));
+  PetscCall(VecGetArrayWrite(work, &p));
+  for (PetscInt i = 0; i < cloth->nlocal; i++) {
+    const PetscReal a     = area[cloth->natural_of_local[i]];
+    const PetscReal value = normal_force && a > 0 ? normal_force[i] / a : 0;
+    for (PetscInt c = 0; c < 3; c++) p[3 * i + c] = value;
+  }
+  PetscCall(VecRestoreArrayWrite(work, &p));
+  PetscCall(ClothScatterParticleValuesToNatural(cloth, work, pressure));
+  PetscCall(VecDestroy(&work));
+  PetscCall(PetscFree(area));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -58,6 +58,7 @@ struct _n_ClothCollision {
   CollisionMesh       *meshes;        /* one per body; used for mesh bodies */
   HeldContact         *held;          /* per owned particle */
   PetscInt            *state;         /* per owned particle: the contact state of ClothCollisionGetContactField */
+  PetscReal           *normal_force;  /* per owned particle: ClothCollisionGetNormalForces */
   HeldContact         *held_saved[2]; /* held, state and the cloth's contact normals per save slot (ClothCollisionSave) */
   PetscInt            *state_saved[2];
   Vec                  normal_saved[2];
@@ -433,6 +434,8 @@ static PetscErrorCode KeepOutside(ClothCollision col, const PetscReal p0[3], Pet
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+static PetscErrorCode RecordNormalForce(ClothCollision, PetscInt, PetscReal, PetscReal, PetscReal, PetscReal);
+
 /* One owned particle: detection against every body, response, and whether it is held for the next step. */
 static PetscErrorCode ContactParticle(ClothCollision col, PetscInt i, PetscReal h, PetscReal mass, const PetscScalar p0[3], const PetscScalar f[3], PetscScalar x[3], PetscScalar v[3], PetscScalar normal[3])
 {
@@ -442,6 +445,7 @@ static PetscErrorCode ContactParticle(ClothCollision col, PetscInt i, PetscReal 
   PetscBool        stuck;
 
   PetscFunctionBeginUser;
+  col->normal_force[i] = 0;
   for (PetscInt b = 0; b < col->nbodies; b++) {
     if (col->meshes[b].mesh)
       PetscCall(ContactMesh(col, b, p0, x, &contact));
@@ -471,6 +475,7 @@ static PetscErrorCode ContactParticle(ClothCollision col, PetscInt i, PetscReal 
      part with the velocity friction left, or a stuck particle would still creep by h^2 a_t every step. */
   for (PetscInt k = 0; k < 3; k++) dv[k] += v[k];
   dvn = Dot3(dv, contact.normal);
+  PetscCall(RecordNormalForce(col, i, mass, fn, dvn, h));
   for (PetscInt k = 0; k < 3; k++) x[k] += h * (dv[k] - dvn * contact.normal[k]);
   PetscCall(KeepOutside(col, p0, x));
   if (fn < 0) { /* the force pushes into the body: hold the particle on the surface during the next step */
@@ -594,6 +599,7 @@ PetscErrorCode ClothCollisionSetUp(ClothCollision col)
   PetscCall(PetscCalloc2(col->nbodies, &col->bodies, col->nbodies, &col->meshes));
   PetscCall(PetscMalloc1(nlocal, &col->held));
   PetscCall(PetscCalloc1(nlocal, &col->state)); /* CONTACT_STATE_FREE */
+  PetscCall(PetscCalloc1(nlocal, &col->normal_force));
   for (PetscInt i = 0; i < nlocal; i++) col->held[i].body = -1;
   for (PetscInt b = 0; b < col->nbodies; b++) {
     char context[CLOTH_PATH_LEN + CLOTH_NAME_LEN + 32];
@@ -848,11 +854,33 @@ PetscErrorCode ClothCollisionDestroy(ClothCollision *collision)
   PetscCall(PetscFree2(col->bodies, col->meshes));
   PetscCall(PetscFree(col->held));
   PetscCall(PetscFree(col->state));
+  PetscCall(PetscFree(col->normal_force));
   for (PetscInt slot = 0; slot < 2; slot++) {
     PetscCall(PetscFree2(col->held_saved[slot], col->state_saved[slot]));
     PetscCall(VecDestroy(&col->normal_saved[slot]));
   }
   PetscCall(VecDestroy(&col->force));
   PetscCall(PetscFree(*collision));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* ------------------------------------------------------------------------------------------------------------ */
+/* Normal contact force (fit maps)                                                                             */
+
+/* The body's normal force on particle i in this response: the larger of the force the held constraint
+   cancels (the part of the particle's force into the body, -fn) and the force that removed the normal
+   velocity dvn within the step (m dvn / h, an impact). At rest only the first remains. */
+static PetscErrorCode RecordNormalForce(ClothCollision col, PetscInt i, PetscReal mass, PetscReal fn, PetscReal dvn, PetscReal h)
+{
+  PetscFunctionBeginUser;
+  col->normal_force[i] = PetscMax(PetscMax(0.0, -fn), h > 0 ? mass * dvn / h : 0.0);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothCollisionGetNormalForces(ClothCollision col, const PetscReal *force[])
+{
+  PetscFunctionBeginUser;
+  PetscCall(ClothCollisionSetUp(col));
+  *force = col->normal_force;
   PetscFunctionReturn(PETSC_SUCCESS);
 }

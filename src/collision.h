@@ -69,6 +69,12 @@ PetscErrorCode ClothCollisionGetStats(ClothCollision collision, ClothCollisionSt
    every particle before the first step. *contacts: the particles in contact (state 1 or 2), summed over
    ranks (ClothCollisionStats.contacts). Collective. */
 PetscErrorCode ClothCollisionGetContactField(ClothCollision collision, Vec field, PetscInt *contacts);
+/* Per owned particle (local numbering, borrowed), the normal force in N the bodies exerted on it in the last
+   ClothCollisionApply: the part of its force into the body that a held contact cancels, or the force that
+   stopped its motion into the body within the step, whichever is larger; 0 for a free particle and before the
+   first step. The contact pressure of the fit maps is this over the particle's fabric area
+   (ClothComputeContactPressure). Collective (the first call sets the collisions up). */
+PetscErrorCode ClothCollisionGetNormalForces(ClothCollision collision, const PetscReal *force[]);
 /* Counts the owned particles inside any body by the robust inside test (winding number for meshes), summed
    over ranks. Collective. */
 PetscErrorCode ClothCollisionCountInside(ClothCollision collision, PetscInt *inside);

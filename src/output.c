@@ -12,6 +12,8 @@
                                   stretch links (any further per-node field: see OutputNodeFields)
        body_contact               (N, 1) float64: 0 free, 1 in contact with a body, 2 held on it
        self_contact               (N, 1) float64: cloth-cloth contacts the particle is part of
+       stress                     (N, 1) float64: largest membrane stress of its stretch links, N/m
+       pressure                   (N, 1) float64: the bodies' normal force on it over its fabric area, N/m^2
      /static/<mesh>/points        (nverts, 3) float64: meshes that do not move (ClothOutputAddStaticMesh)
      /static/<mesh>/triangles     (ntris, 3) int
    NAME.xdmf (Xdmf 3) references these with paths relative to its own folder, so the folder can move.
@@ -29,7 +31,7 @@ typedef struct {
   const char *name;
   PetscInt    ncomp;
 } OutputNodeField;
-static const OutputNodeField OutputNodeFields[] = {{"velocity", 3}, {"strain", 1}, {"body_contact", 1}, {"self_contact", 1}};
+static const OutputNodeField OutputNodeFields[] = {{"velocity", 3}, {"strain", 1}, {"body_contact", 1}, {"self_contact", 1}, {"stress", 1}, {"pressure", 1}};
 #define OUTPUT_NFIELDS ((PetscInt)PETSC_STATIC_ARRAY_LENGTH(OutputNodeFields))
 
 typedef struct {
@@ -389,7 +391,7 @@ static PetscErrorCode OutputWriteFrameFields(ClothOutput out, PetscInt64 step, P
 PetscErrorCode ClothOutputWriteFrame(ClothOutput out, PetscInt step, PetscReal time, Vec position, const ClothOutputFrame *frame)
 {
   PetscInt n;
-  Vec      fields[OUTPUT_NFIELDS] = {frame->velocity, frame->strain, frame->body_contact, frame->self_contact};
+  Vec      fields[OUTPUT_NFIELDS] = {frame->velocity, frame->strain, frame->body_contact, frame->self_contact, frame->stress, frame->pressure};
 
   PetscFunctionBeginUser;
   PetscCall(VecGetSize(position, &n));

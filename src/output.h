@@ -34,6 +34,8 @@ typedef struct {
   Vec      strain;                 /* 1 per particle: ClothComputeStrain */
   Vec      body_contact;           /* 1 per particle: ClothCollisionGetContactField (0 free, 1 in contact, 2 held) */
   Vec      self_contact;           /* 1 per particle: ClothSelfContactGetContactField (contacts it is part of) */
+  Vec      stress;                 /* 1 per particle: ClothComputeStress (N/m) */
+  Vec      pressure;               /* 1 per particle: ClothComputeContactPressure (N/m^2) */
   PetscInt body_contacts;          /* particles in contact with a body */
   PetscInt self_contacts;          /* cloth-cloth contacts (point-triangle and edge-edge pairs) */
   PetscInt self_contact_particles; /* particles in one or more cloth-cloth contacts */

@@ -81,6 +81,99 @@ static PetscErrorCode WriteSeamLinks(Cloth cloth, FILE *fp)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* The q-quantile (0 <= q <= 1) of n sorted values, interpolated linearly between the nearest ranks (numpy's
+   default); 0 for none. */
+static PetscReal SortedQuantile(const PetscReal sorted[], PetscInt n, PetscReal q)
+{
+  PetscReal at;
+  PetscInt  lo;
+
+  if (n == 0) return 0;
+  at = q * (PetscReal)(n - 1);
+  lo = (PetscInt)PetscFloorReal(at);
+  if (lo + 1 >= n) return sorted[n - 1];
+  return sorted[lo] + (at - (PetscReal)lo) * (sorted[lo + 1] - sorted[lo]);
+}
+
+/* The maximum and 95th percentile of natural field values[first, last) as "name_max" and "name_p95" entries. */
+static PetscErrorCode WriteFieldSummary(MPI_Comm comm, FILE *fp, const char name[], const PetscReal values[], PetscInt first, PetscInt last, const char *separator)
+{
+  PetscReal *sorted;
+  PetscInt   n = last - first;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMalloc1(n, &sorted));
+  PetscCall(PetscArraycpy(sorted, values + first, n));
+  PetscCall(PetscSortReal(n, sorted));
+  PetscCall(PetscFPrintf(comm, fp, "\"%s_max\": %.6e, \"%s_p95\": %.6e%s", name, (double)(n ? sorted[n - 1] : 0), name, (double)SortedQuantile(sorted, n, 0.95), separator));
+  PetscCall(PetscFree(sorted));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* A natural per-particle Vec gathered on rank 0 into values (allocated there; NULL elsewhere). */
+static PetscErrorCode GatherToZero(Vec natural, PetscReal **values)
+{
+  VecScatter         to_zero;
+  Vec                all;
+  const PetscScalar *a;
+  PetscInt           n;
+
+  PetscFunctionBeginUser;
+  *values = NULL;
+  PetscCall(VecScatterCreateToZero(natural, &to_zero, &all));
+  PetscCall(VecScatterBegin(to_zero, natural, all, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(to_zero, natural, all, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecGetLocalSize(all, &n));
+  if (n > 0) {
+    PetscCall(PetscMalloc1(n, values));
+    PetscCall(VecGetArrayRead(all, &a));
+    for (PetscInt g = 0; g < n; g++) (*values)[g] = PetscRealPart(a[g]);
+    PetscCall(VecRestoreArrayRead(all, &a));
+  }
+  PetscCall(VecScatterDestroy(&to_zero));
+  PetscCall(VecDestroy(&all));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* "fit_maps": per piece, in the scene's order, its particle count and the maximum and 95th percentile over its particles of the strain, the stress (N/m)
+   and the contact pressure on the body (N/m^2; particles off the body count as 0). Rank 0 writes. */
+static PetscErrorCode WriteFitMaps(ClothRun run, FILE *fp)
+{
+  static const char *const names[3] = {"strain", "stress_n_per_m", "pressure_pa"};
+  Cloth                    cloth;
+  ClothModel               model;
+  Scene                    scene;
+  Vec                      field[3];
+  PetscReal               *values[3];
+  PetscMPIInt              rank;
+  MPI_Comm                 comm;
+
+  PetscFunctionBeginUser;
+  PetscCall(ClothRunGetCloth(run, &cloth));
+  PetscCall(ClothGetComm(cloth, &comm));
+  PetscCall(ClothGetModel(cloth, &model));
+  PetscCall(ClothGetScene(cloth, &scene));
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCall(ClothCreateStrainVec(cloth, &field[0]));
+  PetscCall(VecDuplicate(field[0], &field[1]));
+  PetscCall(VecDuplicate(field[0], &field[2]));
+  PetscCall(ClothRunComputeFitMaps(run, field[0], field[1], field[2]));
+  for (PetscInt f = 0; f < 3; f++) PetscCall(GatherToZero(field[f], &values[f]));
+  PetscCall(PetscFPrintf(comm, fp, "  \"fit_maps\": {\n"));
+  if (rank == 0)
+    for (PetscInt p = 0; p < model->npieces; p++) {
+      PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "    \"%s\": {\"particles\": %" PetscInt_FMT ", ", scene->pieces[p].name, model->piece_offset[p + 1] - model->piece_offset[p]));
+      for (PetscInt f = 0; f < 3; f++) PetscCall(WriteFieldSummary(PETSC_COMM_SELF, fp, names[f], values[f], model->piece_offset[p], model->piece_offset[p + 1], f < 2 ? ", " : ""));
+      PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "}%s\n", p + 1 < model->npieces ? "," : ""));
+    }
+  PetscCall(PetscFPrintf(comm, fp, "  },\n"));
+  for (PetscInt f = 0; f < 3; f++) {
+    PetscCall(PetscFree(values[f]));
+    PetscCall(VecDestroy(&field[f]));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode ClothRunWriteQuality(ClothRun run, const char path[], PetscReal wall_seconds)
 {
   Cloth            cloth;
@@ -116,10 +209,11 @@ PetscErrorCode ClothRunWriteQuality(ClothRun run, const char path[], PetscReal w
   PetscCall(PetscFPrintf(comm, fp, "{\n  \"max_seam_gap_m\": %.6e,\n  \"sewn_pairs\": %" PetscInt_FMT ",\n  \"seam_pairs\": %" PetscInt_FMT ",\n", (double)gap, sewn, total));
   PetscCall(PetscFPrintf(comm, fp, "  \"particles_inside_body\": %" PetscInt_FMT ",\n  \"max_link_strain\": %.6e,\n  \"kinetic_energy_j\": %.6e,\n", inside, (double)strain, (double)energy.kinetic));
   PetscCall(PetscFPrintf(comm, fp, "  \"wall_s\": %.3f,\n  \"ranks\": %d,\n", (double)wall_seconds, (int)size));
+  PetscCall(WriteFitMaps(run, fp));
   PetscCall(WriteSeamLinks(cloth, fp));
   PetscCall(PetscFPrintf(comm, fp, "}\n"));
   PetscCall(ClothFileCommitText(comm, fp, tmp, path));
-  PetscCall(PetscPrintf(comm, "Garment quality: widest seam gap %.2f mm (%" PetscInt_FMT "/%" PetscInt_FMT " pairs sewn), %" PetscInt_FMT " particles inside the body, max link strain %.4f, kinetic energy %.3e J -> %s\n",
-                        (double)(1e3 * gap), sewn, total, inside, (double)strain, (double)energy.kinetic, path));
+  PetscCall(PetscPrintf(comm, "Garment quality: widest seam gap %.2f mm (%" PetscInt_FMT "/%" PetscInt_FMT " pairs sewn), %" PetscInt_FMT " particles inside the body, max link strain %.4f, kinetic energy %.3e J -> %s\n", (double)(1e3 * gap), sewn,
+                        total, inside, (double)strain, (double)energy.kinetic, path));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

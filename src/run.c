@@ -46,6 +46,7 @@ struct _n_ClothRun {
   Vec      natural_contact;                                /* contact normals (scenes with bodies) */
   Vec      natural_strain;                                 /* one value per particle, for frames */
   Vec      natural_body_contact, natural_self_contact;     /* contact fields of frames (output.h); zero when off */
+  Vec      natural_stress, natural_pressure;               /* fit maps of frames (output.h) */
   Vec      natural_sewn;                                   /* sewn seams per particle (sewing.h), checkpoints */
   Vec      natural_slider[CLOTH_SLIDER_FAMILIES];          /* hysteresis sliders by ClothSliderFamily (cloth.h), checkpoints; NULL without */
   char     last_checkpoint[CLOTH_PATH_LEN];
@@ -469,6 +470,8 @@ PetscErrorCode ClothRunSetUp(ClothRun run)
   PetscCall(ClothCreateStrainVec(run->cloth, &run->natural_strain));
   PetscCall(VecDuplicate(run->natural_strain, &run->natural_body_contact)); /* one value per particle */
   PetscCall(VecDuplicate(run->natural_strain, &run->natural_self_contact));
+  PetscCall(VecDuplicate(run->natural_strain, &run->natural_stress));
+  PetscCall(VecDuplicate(run->natural_strain, &run->natural_pressure));
   PetscCall(VecZeroEntries(run->natural_body_contact));
   PetscCall(VecZeroEntries(run->natural_self_contact));
   if (run->scene->nseams > 0) {
@@ -521,6 +524,31 @@ static PetscErrorCode ClothRunGatherContacts(ClothRun run, ClothOutputFrame *fra
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+PetscErrorCode ClothRunComputeFitMaps(ClothRun run, Vec strain, Vec stress, Vec pressure)
+{
+  const PetscReal *normal_force = NULL;
+  Vec              x;
+
+  PetscFunctionBeginUser;
+  PetscCall(ClothGetState(run->cloth, &x, NULL));
+  PetscCall(ClothComputeStrain(run->cloth, x, strain));
+  PetscCall(ClothComputeStress(run->cloth, x, stress));
+  if (run->collision) PetscCall(ClothCollisionGetNormalForces(run->collision, &normal_force));
+  PetscCall(ClothComputeContactPressure(run->cloth, normal_force, pressure));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The fit maps of a frame: strain, stress and the pressure on the bodies (zero without bodies). */
+static PetscErrorCode ClothRunGatherFitMaps(ClothRun run, ClothOutputFrame *frame)
+{
+  PetscFunctionBeginUser;
+  PetscCall(ClothRunComputeFitMaps(run, run->natural_strain, run->natural_stress, run->natural_pressure));
+  frame->strain   = run->natural_strain;
+  frame->stress   = run->natural_stress;
+  frame->pressure = run->natural_pressure;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 static PetscErrorCode ClothRunWriteCheckpoint(ClothRun run);
 
 /* A series that vanished during the run (its directory deleted or moved) cannot take the frame: the state is
@@ -540,17 +568,14 @@ static PetscErrorCode ClothRunCheckSeries(ClothRun run)
 
 static PetscErrorCode ClothRunWriteFrame(ClothRun run)
 {
-  Vec              x;
   ClothOutputFrame frame;
 
   PetscFunctionBeginUser;
   PetscCall(ClothRunCheckSeries(run));
   PetscCall(PetscLogEventBegin(ClothLog.output, 0, 0, 0, 0));
   PetscCall(ClothRunGatherNatural(run));
-  PetscCall(ClothGetState(run->cloth, &x, NULL));
-  PetscCall(ClothComputeStrain(run->cloth, x, run->natural_strain));
   frame.velocity = run->natural_velocity;
-  frame.strain   = run->natural_strain;
+  PetscCall(ClothRunGatherFitMaps(run, &frame));
   PetscCall(ClothRunGatherContacts(run, &frame));
   PetscCall(ClothOutputWriteFrame(run->output, run->step, run->time, run->natural_position, &frame));
   PetscCall(PetscLogEventEnd(ClothLog.output, 0, 0, 0, 0));
@@ -737,6 +762,8 @@ PetscErrorCode ClothRunDestroy(ClothRun *run)
   PetscCall(VecDestroy(&r->natural_strain));
   PetscCall(VecDestroy(&r->natural_body_contact));
   PetscCall(VecDestroy(&r->natural_self_contact));
+  PetscCall(VecDestroy(&r->natural_stress));
+  PetscCall(VecDestroy(&r->natural_pressure));
   PetscCall(VecDestroy(&r->natural_sewn));
   PetscCall(VecDestroy(&r->natural_slider[CLOTH_SLIDERS_BEND]));
   PetscCall(VecDestroy(&r->natural_slider[CLOTH_SLIDERS_SHEAR]));

@@ -6,7 +6,7 @@ Checks, with each of ParaView's XDMF readers (XDMFReader, Xdmf3ReaderS, Xdmf3Rea
   - the time steps are exactly the expected ones (within 1e-12), and the .h5 holds one frame each;
   - at the last time step: the number of points and cells (all grids together);
   - the grid "fabric": all cells quadrilaterals, positions, velocities and the scalars strain,
-    body_contact and self_contact equal (within 1e-12) to the last frame's datasets read from the .h5
+    body_contact, self_contact, stress and pressure equal (within 1e-12) to the last frame's datasets read from the .h5
     with h5py, and position[0, 0] equal to --fabric-x0;
   - every frame group has the integer attributes body_contacts, self_contacts, self_contact_particles
     (with --counts-are-step: equal to step, step + 1, step + 2, as tests/test_output.c writes them).
@@ -23,7 +23,7 @@ from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkCommonDataModel import VTK_QUAD, vtkCompositeDataSet
 
 TOLERANCE = 1e-12
-SCALARS = ("strain", "body_contact", "self_contact")  # one value per particle, XDMF Scalar attributes
+SCALARS = ("strain", "body_contact", "self_contact", "stress", "pressure")  # one value per particle, XDMF Scalar attributes
 COUNTS = ("body_contacts", "self_contacts", "self_contact_particles")  # int64 attributes of each frame group
 READERS = {
     "XDMFReader": lambda path: XDMFReader(FileNames=[path]),

@@ -1,5 +1,5 @@
 # postprocess/ and the scaling driver of jobs/ on a tiny real run (tests/postprocess_tools.sh).
-foreach(part energy render scaling)
+foreach(part energy render movie scaling)
   clothsim_add_script_test(postprocess_${part} postprocess_tools.sh ${CMAKE_CURRENT_BINARY_DIR}/postprocess_${part} ${part})
   set_tests_properties(postprocess_${part} PROPERTIES TIMEOUT 90)
 endforeach()

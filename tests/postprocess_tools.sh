@@ -1,15 +1,16 @@
 #!/bin/bash
 # The postprocess tools on a tiny real run: postprocess/energy.py (energies against clothsim's own
-# -monitor_energy values and m g h at t = 0), postprocess/render.py (a PNG of the requested size), and the
-# scaling driver jobs/scaling.py (its table), each also with --help.
-# Usage: postprocess_tools.sh WORKDIR [energy|render|scaling]...      (CLOTHSIM: the binary)
+# -monitor_energy values and m g h at t = 0), postprocess/render.py (a PNG of the requested size), the
+# pictures of a garment (render.py shaded as cloth and coloured by a fit map, postprocess/movie.py's MP4), and
+# the scaling driver jobs/scaling.py (its table), each also with --help.
+# Usage: postprocess_tools.sh WORKDIR [energy|render|movie|scaling]...      (CLOTHSIM: the binary)
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/.." && pwd)
 work=$1
 shift
 parts=("$@")
-[ ${#parts[@]} -gt 0 ] || parts=(energy render scaling)
+[ ${#parts[@]} -gt 0 ] || parts=(energy render movie scaling)
 CLOTHSIM=${CLOTHSIM:-$root/build/clothsim}
 py=/usr/bin/python3
 fail() { echo "FAIL: $*"; exit 1; }
@@ -83,6 +84,37 @@ a = im.imread(sys.argv[1])
 frac = (a[..., :3].min(axis=2) < 0.9).mean()
 assert frac > 0.02, f"only {frac:.3f} of the pixels are not white"
 print(f"render.py: 320x240 PNGs, {frac:.2f} of the front view drawn")
+PY
+    ;;
+  movie)
+    run
+    command -v ffprobe > /dev/null || fail "ffprobe missing: install ffmpeg (scripts/install_deps.sh)"
+    $py "$root/postprocess/movie.py" --help | grep -q -- "--frames" || fail "movie.py --help"
+    # All 5 frames of the series (asked for 60: a series with fewer gives them all), 320x240.
+    $py "$root/postprocess/movie.py" "$work/run/hanging_sheet.xdmf" --out "$work/movie.mp4" --frames 60 --size 320x240 \
+      --view front > "$work/movie.log" 2>&1 || { cat "$work/movie.log"; fail "movie.py"; }
+    cat "$work/movie.log"
+    got=$(ffprobe -v error -count_frames -select_streams v:0 -show_entries stream=nb_read_frames,width,height -of csv=p=0 "$work/movie.mp4")
+    [ "$got" = "320,240,5" ] || fail "movie.mp4: width,height,frames = $got, expected 320,240,5"
+    # Stills: shaded as cloth and coloured by the strain map; each draws the sheet (not the empty white
+    # image), and the two differ (the map is not the cloth colour).
+    for colour in piece strain; do
+      for try in 1 2 3 4 5; do
+        xvfb-run -a -n $((200 + RANDOM % 2000)) /usr/bin/pvpython "$root/postprocess/render.py" "$work/run/hanging_sheet.xdmf" --frame -1 \
+          --view iso --color-by $colour --size 320x240 --no-label --out "$work/still_$colour.png" > "$work/still_$colour.log" 2>&1 && break
+        grep -q "bad X server connection" "$work/still_$colour.log" || break
+        sleep $try
+      done
+      [ -f "$work/still_$colour.png" ] || { cat "$work/still_$colour.log"; fail "render.py --color-by $colour"; }
+    done
+    $py - "$work/still_piece.png" "$work/still_strain.png" <<'PY' || fail "the stills are blank or alike"
+import sys, matplotlib.image as im
+a, b = (im.imread(path)[..., :3] for path in sys.argv[1:3])
+drawn = [float((x.min(axis=2) < 0.9).mean()) for x in (a, b)]
+assert min(drawn) > 0.02, f"fractions of pixels drawn (not white) {drawn}: an empty image"
+differ = float((abs(a - b).max(axis=2) > 0.1).mean())
+assert differ > 0.02, f"the cloth and strain renders differ on only {differ:.3f} of the pixels"
+print(f"render.py: stills draw {drawn[0]:.2f} and {drawn[1]:.2f} of the view, differ on {differ:.2f} of it")
 PY
     ;;
   scaling)

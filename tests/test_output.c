@@ -90,7 +90,8 @@ static PetscErrorCode WriteFrame(ClothOutput out, MPI_Comm comm, PetscInt n, Pet
   }
   PetscCall(VecRestoreArray(self, &ca));
   PetscCall(VecRestoreArray(body, &ba));
-  frame = (ClothOutputFrame){v, strain, body, self, step, step + 1, step + 2};
+  /* the fit maps reuse two of the fields: the writer treats every per-particle scalar alike */
+  frame = (ClothOutputFrame){.velocity = v, .strain = strain, .body_contact = body, .self_contact = self, .stress = self, .pressure = body, .body_contacts = step, .self_contacts = step + 1, .self_contact_particles = step + 2};
   PetscCall(ClothOutputWriteFrame(out, step, time, x, &frame));
   PetscCall(VecDestroy(&body));
   PetscCall(VecDestroy(&self));
