@@ -76,7 +76,7 @@ Results in $output_dir:
   quality.json                 for a garment: its measured quality, with the fit maps per piece (fit_maps)
   ${name}_front.png, _side.png, _back.png      for a garment: renders shaded as cloth, a colour per piece
   ${name}_strain_front.png, _back.png, ${name}_pressure_front.png, _back.png   its fit maps
-  $name.mp4                    the assembly, up to 60 frames at 12 per second
+  $name.mp4                    the assembly, 51 frames at 12 per second
 Open in ParaView:    paraview $output_dir/$name.xdmf     (reader: "Xdmf3 Reader S" or "XDMF Reader")
 Without a display:   xvfb-run -a pvpython -c "from paraview.simple import *; r = Xdmf3ReaderS(FileName='$output_dir/$name.xdmf'); r.UpdatePipeline(); print(r.TimestepValues)"
 Inspect the data:    h5ls -r $output_dir/$name.h5
