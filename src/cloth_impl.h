@@ -41,6 +41,8 @@ struct _n_Cloth {
                                                   (created by ClothGetContactNormals; NULL: no contacts) */
   PetscReal                  *slider_saved[2]; /* cos0, sin0 of the friction elements, per save slot (ClothHysteresisSave) */
   struct _n_ClothSelfContact *self_contact;    /* cloth-cloth contacts (selfcontact.h; borrowed, NULL: off) */
+  ClothContactFrictionFn      contact_friction; /* body friction inside the implicit step (NULL: none) */
+  void                       *contact_friction_ctx;
   Vec                         natural;         /* template for natural-order Vecs */
   VecScatter                  to_natural;
 };
