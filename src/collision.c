@@ -649,8 +649,8 @@ PetscErrorCode ClothCollisionSetFromOptions(ClothCollision col)
   PetscCall(PetscOptionsReal("-collision_friction_stribeck_velocity", "Implicit friction: the coefficient falls from static to kinetic as exp(-(|v_t|/v_s)^2), v_s in m/s (0: kinetic only)", "ClothCollisionSetFromOptions", col->stribeck_velocity, &col->stribeck_velocity,
                              NULL));
   PetscOptionsEnd();
-  PetscCall(ClothOptionsCheckReal(col->comm, "-collision_friction_velocity", col->friction_velocity, 0, PETSC_FALSE, PETSC_MAX_REAL, "m/s"));
-  PetscCall(ClothOptionsCheckReal(col->comm, "-collision_friction_stribeck_velocity", col->stribeck_velocity, 0, PETSC_TRUE, PETSC_MAX_REAL, "m/s"));
+  PetscCall(ClothOptionsCheckReal(col->comm, "-collision_friction_velocity", col->friction_velocity, 0, PETSC_TRUE, PETSC_MAX_REAL, "m/s"));
+  PetscCall(ClothOptionsCheckReal(col->comm, "-collision_friction_stribeck_velocity", col->stribeck_velocity, 0, PETSC_FALSE, PETSC_MAX_REAL, "m/s"));
   PetscCall(ClothOptionsCheckReal(col->comm, "-collision_cell_size", col->cell_size, 0, PETSC_FALSE, PETSC_MAX_REAL, "m"));
   /* positive: corrected particles may move slightly beyond their segment */
   PetscCall(ClothOptionsCheckReal(col->comm, "-collision_grid_margin", col->margin, 0, PETSC_TRUE, PETSC_MAX_REAL, "m"));
