@@ -15,7 +15,7 @@ set_tests_properties(collision_sphere_drape_clearance PROPERTIES DEPENDS collisi
 
 # At rest on the sphere: 33 x 33 at dt = 1/120 s for 6 s; the kinetic energy (0.1 J while the sheet lands)
 # must fall below 1e-6 J: held contacts and static friction leave no jitter (measured: 6.0e-10 J with
-# -collision_friction explicit, 1.0e-7 J with implicit friction, whose stuck particles creep at eps_v-scale speeds).
+# -collision_friction explicit, 1.0e-7 J with implicit friction, whose stuck particles creep slowly; docs/collisions.md).
 clothsim_add_mpi_test(collision_sphere_rest 1 $<TARGET_FILE:test_run_to_rest>
   -scene input/sphere_drape.yaml -grid 33 -dt 0.008333333333333333 -t_final 6 -output_every 0
   -output_dir ${CMAKE_BINARY_DIR}/test-output/sphere_rest -expect_ke_below 1e-6 -progress_seconds 100)
