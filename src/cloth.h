@@ -97,7 +97,7 @@ static inline PetscReal ClothContactScale(const PetscScalar c[3])
 }
 /* One particle's filter S (row-major 3x3) from its entry c of the contact constraints (NULL: free) and
    whether it is pinned; returns whether S differs from I. */
-PetscBool      ClothContactFilter(const PetscScalar *c, PetscBool pinned, PetscReal S[9]);
+PetscBool ClothContactFilter(const PetscScalar *c, PetscBool pinned, PetscReal S[9]);
 /* Friction of body contacts inside the linearised implicit step (collision.h, -collision_friction implicit): called
    by ClothAssembleImplicitSystem with the step size h, the velocity at the step's start, the force F there (owned
    entries complete) and the matrix being assembled (owned diagonal blocks not yet assembled); adds the friction

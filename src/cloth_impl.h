@@ -37,12 +37,12 @@ struct _n_Cloth {
   PetscInt      *xadj, *adjncy;        /* natural-order adjacency, kept for preallocation */
 
   Vec position, velocity, work_force, work_kv;
-  Vec contact_normal;                          /* ghosted, bs 3: unit normal of each particle's contact constraint, 0 when free
-                                                  (created by ClothGetContactNormals; NULL: no contacts) */
-  PetscReal                  *slider_saved[2]; /* cos0, sin0 of the friction elements, per save slot (ClothHysteresisSave) */
-  struct _n_ClothSelfContact *self_contact;    /* cloth-cloth contacts (selfcontact.h; borrowed, NULL: off) */
+  Vec contact_normal;                           /* ghosted, bs 3: unit normal of each particle's contact constraint, 0 when free
+                                                   (created by ClothGetContactNormals; NULL: no contacts) */
+  PetscReal                  *slider_saved[2];  /* cos0, sin0 of the friction elements, per save slot (ClothHysteresisSave) */
+  struct _n_ClothSelfContact *self_contact;     /* cloth-cloth contacts (selfcontact.h; borrowed, NULL: off) */
   ClothContactFrictionFn      contact_friction; /* body friction inside the implicit step (NULL: none) */
   void                       *contact_friction_ctx;
-  Vec                         natural;         /* template for natural-order Vecs */
+  Vec                         natural; /* template for natural-order Vecs */
   VecScatter                  to_natural;
 };

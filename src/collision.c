@@ -6,7 +6,7 @@
 #include "vec3.h"
 #include "options.h"
 
-const char *const ClothCollisionSearches[] = {"grid", "brute_force", "ClothCollisionSearch", "CLOTH_COLLISION_SEARCH_", NULL};
+const char *const ClothCollisionSearches[]  = {"grid", "brute_force", "ClothCollisionSearch", "CLOTH_COLLISION_SEARCH_", NULL};
 const char *const ClothCollisionFrictions[] = {"implicit", "explicit", "ClothCollisionFriction", "CLOTH_COLLISION_FRICTION_", NULL};
 
 #define COLLISION_MAX_CELLS 8000000    /* the grid's cells grow beyond -collision_cell_size rather than exceed this */
@@ -47,27 +47,27 @@ typedef struct {
 } HeldContact;
 
 struct _n_ClothCollision {
-  Cloth                cloth;
-  MPI_Comm             comm;
-  Scene                scene;
-  ClothCollisionSearch search;
-  PetscReal            cell_size, margin;
-  PetscReal            friction_scale; /* the cloth's, read once per ClothCollisionApply */
-  ClothCollisionFriction friction;     /* where friction of held contacts acts */
+  Cloth                  cloth;
+  MPI_Comm               comm;
+  Scene                  scene;
+  ClothCollisionSearch   search;
+  PetscReal              cell_size, margin;
+  PetscReal              friction_scale;                       /* the cloth's, read once per ClothCollisionApply */
+  ClothCollisionFriction friction;                             /* where friction of held contacts acts */
   PetscReal              friction_velocity, stribeck_velocity; /* eps_v and v_s of the regularised law, m/s */
-  PetscBool              friction_solved; /* the step just taken had the friction of held contacts in its solve */
-  PetscReal             *vt_start;        /* per owned particle held in that solve: its tangential velocity at the step's start */
-  PetscBool            verify, view, setup;
-  PetscInt             nbodies;
-  Body                *bodies;
-  CollisionMesh       *meshes;        /* one per body; used for mesh bodies */
-  HeldContact         *held;          /* per owned particle */
-  PetscInt            *state;         /* per owned particle: the contact state of ClothCollisionGetContactField */
-  HeldContact         *held_saved[2]; /* held, state and the cloth's contact normals per save slot (ClothCollisionSave) */
-  PetscInt            *state_saved[2];
-  Vec                  normal_saved[2];
-  Vec                  force;
-  ClothCollisionStats  stats, local;
+  PetscBool              friction_solved;                      /* the step just taken had the friction of held contacts in its solve */
+  PetscReal             *vt_start;                             /* per owned particle held in that solve: its tangential velocity at the step's start */
+  PetscBool              verify, view, setup;
+  PetscInt               nbodies;
+  Body                  *bodies;
+  CollisionMesh         *meshes;        /* one per body; used for mesh bodies */
+  HeldContact           *held;          /* per owned particle */
+  PetscInt              *state;         /* per owned particle: the contact state of ClothCollisionGetContactField */
+  HeldContact           *held_saved[2]; /* held, state and the cloth's contact normals per save slot (ClothCollisionSave) */
+  PetscInt              *state_saved[2];
+  Vec                    normal_saved[2];
+  Vec                    force;
+  ClothCollisionStats    stats, local;
 };
 
 /* ------------------------------------------------------------------------------------------------------------ */
@@ -599,16 +599,16 @@ PetscErrorCode ClothCollisionCreate(Cloth cloth, Scene scene, ClothCollision *co
   PetscFunctionBeginUser;
   PetscCall(ClothLogRegister());
   PetscCall(PetscNew(&col));
-  col->cloth   = cloth;
-  col->scene   = scene;
-  col->comm    = scene->comm;
-  col->nbodies = scene->nbodies;
-  col->search  = CLOTH_COLLISION_SEARCH_GRID;
-  col->margin  = 0.05;
+  col->cloth             = cloth;
+  col->scene             = scene;
+  col->comm              = scene->comm;
+  col->nbodies           = scene->nbodies;
+  col->search            = CLOTH_COLLISION_SEARCH_GRID;
+  col->margin            = 0.05;
   col->friction          = CLOTH_COLLISION_FRICTION_IMPLICIT;
   col->friction_velocity = 1e-4; /* creep of a stuck particle: at most a few eps_v (docs/collisions.md) */
   col->stribeck_velocity = 1e-2;
-  *collision   = col;
+  *collision             = col;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -643,11 +643,12 @@ PetscErrorCode ClothCollisionSetFromOptions(ClothCollision col)
   PetscCall(PetscOptionsReal("-collision_grid_margin", "The grid covers this rank's particles plus this margin, m; it is rebuilt when a particle leaves that region", "ClothCollisionApply", col->margin, &col->margin, NULL));
   PetscCall(PetscOptionsBool("-collision_verify", "Search every segment with the grid and brute force too; error if they differ", "ClothCollisionSetVerify", col->verify, &col->verify, NULL));
   PetscCall(PetscOptionsBool("-collision_view", "Print the bodies and the collision set-up", "ClothCollisionView", col->view, &col->view, NULL));
-  PetscCall(PetscOptionsEnum("-collision_friction", "Friction of held contacts: implicit (regularised Coulomb law and its Jacobian in the implicit step) or explicit (velocity filter after the step)", "ClothCollisionSetFriction", ClothCollisionFrictions,
-                             (PetscEnum)col->friction, (PetscEnum *)&col->friction, NULL));
-  PetscCall(PetscOptionsReal("-collision_friction_velocity", "Implicit friction: regularisation velocity eps_v, m/s (a stuck particle creeps at about eps_v |F_t| / (mu_s |F_n|))", "ClothCollisionSetFromOptions", col->friction_velocity, &col->friction_velocity, NULL));
-  PetscCall(PetscOptionsReal("-collision_friction_stribeck_velocity", "Implicit friction: the coefficient falls from static to kinetic as exp(-(|v_t|/v_s)^2), v_s in m/s (0: kinetic only)", "ClothCollisionSetFromOptions", col->stribeck_velocity, &col->stribeck_velocity,
-                             NULL));
+  PetscCall(PetscOptionsEnum("-collision_friction", "Friction of held contacts: implicit (regularised Coulomb law and its Jacobian in the implicit step) or explicit (velocity filter after the step)", "ClothCollisionSetFriction",
+                             ClothCollisionFrictions, (PetscEnum)col->friction, (PetscEnum *)&col->friction, NULL));
+  PetscCall(PetscOptionsReal("-collision_friction_velocity", "Implicit friction: regularisation velocity eps_v, m/s (a stuck particle creeps at about eps_v |F_t| / (mu_s |F_n|))", "ClothCollisionSetFromOptions", col->friction_velocity,
+                             &col->friction_velocity, NULL));
+  PetscCall(PetscOptionsReal("-collision_friction_stribeck_velocity", "Implicit friction: the coefficient falls from static to kinetic as exp(-(|v_t|/v_s)^2), v_s in m/s (0: kinetic only)", "ClothCollisionSetFromOptions", col->stribeck_velocity,
+                             &col->stribeck_velocity, NULL));
   PetscOptionsEnd();
   PetscCall(ClothOptionsCheckReal(col->comm, "-collision_friction_velocity", col->friction_velocity, 0, PETSC_TRUE, PETSC_MAX_REAL, "m/s"));
   PetscCall(ClothOptionsCheckReal(col->comm, "-collision_friction_stribeck_velocity", col->stribeck_velocity, 0, PETSC_FALSE, PETSC_MAX_REAL, "m/s"));
@@ -952,7 +953,8 @@ PetscErrorCode ClothCollisionView(ClothCollision col, PetscViewer viewer)
   PetscCall(PetscViewerASCIIPrintf(viewer, "%s\n", col->verify ? ", verified against brute force" : ""));
   if (col->friction == CLOTH_COLLISION_FRICTION_IMPLICIT)
     PetscCall(PetscViewerASCIIPrintf(viewer, "Friction of held contacts: implicit (regularised Coulomb, eps_v %g m/s, Stribeck velocity %g m/s)\n", (double)col->friction_velocity, (double)col->stribeck_velocity));
-  else PetscCall(PetscViewerASCIIPrintf(viewer, "Friction of held contacts: explicit (velocity filter after the step)\n"));
+  else
+    PetscCall(PetscViewerASCIIPrintf(viewer, "Friction of held contacts: explicit (velocity filter after the step)\n"));
   PetscCall(PetscViewerASCIIPushTab(viewer));
   for (PetscInt b = 0; b < col->nbodies && col->setup; b++) PetscCall(BodyView(col->bodies[b], viewer));
   if (col->setup) PetscCall(PetscViewerASCIIPrintf(viewer, "%" PetscInt_FMT " particles started inside a body and were pushed out\n", col->stats.pushed_out));
