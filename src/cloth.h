@@ -169,7 +169,14 @@ static inline PetscReal ClothContactScale(const PetscScalar c[3])
 }
 /* One particle's filter S (row-major 3x3) from its entry c of the contact constraints (NULL: free) and
    whether it is pinned; returns whether S differs from I. */
-PetscBool      ClothContactFilter(const PetscScalar *c, PetscBool pinned, PetscReal S[9]);
+PetscBool ClothContactFilter(const PetscScalar *c, PetscBool pinned, PetscReal S[9]);
+/* Friction of body contacts inside the linearised implicit step (collision.h, -collision_friction implicit): called
+   by ClothAssembleImplicitSystem with the step size h, the velocity at the step's start, the force F there (owned
+   entries complete) and the matrix being assembled (owned diagonal blocks not yet assembled); adds the friction
+   force to F (so that it enters the right-hand side) and h times minus its velocity Jacobian to the diagonal
+   blocks of A. NULL: none. */
+typedef PetscErrorCode (*ClothContactFrictionFn)(void *ctx, PetscReal h, Vec velocity, Vec force, Mat A);
+PetscErrorCode ClothSetContactFriction(Cloth cloth, ClothContactFrictionFn friction, void *ctx);
 PetscErrorCode ClothComputeEnergy(Cloth cloth, Vec position, Vec velocity, ClothEnergy *energy);
 
 /* Natural-order Vecs (PETSc's default contiguous layout, block size 3) for files. */

@@ -329,6 +329,7 @@ PetscErrorCode ClothAssembleImplicitSystem(Cloth cloth, PetscReal h, Vec positio
   PetscCall(GetContactNormalsLocal(cloth, &normal_local, &ev.normal));
   PetscCall(ClothEvaluate(cloth, position, velocity, cloth->work_force, cloth->work_kv, &ev));
   PetscCall(AddDiagonalBlocks(cloth, ev.normal, h, A));
+  if (cloth->contact_friction) PetscCall(cloth->contact_friction(cloth->contact_friction_ctx, h, velocity, cloth->work_force, A));
   PetscCall(RestoreContactNormalsLocal(cloth, &normal_local, &ev.normal));
   PetscCall(MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY));
   /* rhs = h (F - h K v), filtered, while the matrix assembly communicates */
@@ -470,5 +471,13 @@ PetscErrorCode ClothGetSelfContact(Cloth cloth, ClothSelfContact *sc)
 {
   PetscFunctionBeginUser;
   *sc = cloth->self_contact;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothSetContactFriction(Cloth cloth, ClothContactFrictionFn friction, void *ctx)
+{
+  PetscFunctionBeginUser;
+  cloth->contact_friction     = friction;
+  cloth->contact_friction_ctx = ctx;
   PetscFunctionReturn(PETSC_SUCCESS);
 }

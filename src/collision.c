@@ -6,7 +6,8 @@
 #include "vec3.h"
 #include "options.h"
 
-const char *const ClothCollisionSearches[] = {"grid", "brute_force", "ClothCollisionSearch", "CLOTH_COLLISION_SEARCH_", NULL};
+const char *const ClothCollisionSearches[]  = {"grid", "brute_force", "ClothCollisionSearch", "CLOTH_COLLISION_SEARCH_", NULL};
+const char *const ClothCollisionFrictions[] = {"implicit", "explicit", "ClothCollisionFriction", "CLOTH_COLLISION_FRICTION_", NULL};
 
 #define COLLISION_MAX_CELLS 8000000    /* the grid's cells grow beyond -collision_cell_size rather than exceed this */
 #define COLLISION_BARYCENTRIC_TOL 1e-9 /* a segment through a shared edge hits at least one of its triangles */
@@ -46,24 +47,28 @@ typedef struct {
 } HeldContact;
 
 struct _n_ClothCollision {
-  Cloth                cloth;
-  MPI_Comm             comm;
-  Scene                scene;
-  ClothCollisionSearch search;
-  PetscReal            cell_size, margin;
-  PetscReal            friction_scale; /* the cloth's, read once per ClothCollisionApply */
-  PetscBool            verify, view, setup;
-  PetscInt             nbodies;
-  Body                *bodies;
-  CollisionMesh       *meshes;        /* one per body; used for mesh bodies */
-  HeldContact         *held;          /* per owned particle */
-  PetscInt            *state;         /* per owned particle: the contact state of ClothCollisionGetContactField */
-  PetscReal           *normal_force;  /* per owned particle: ClothCollisionGetNormalForces */
-  HeldContact         *held_saved[2]; /* held, state and the cloth's contact normals per save slot (ClothCollisionSave) */
-  PetscInt            *state_saved[2];
-  Vec                  normal_saved[2];
-  Vec                  force;
-  ClothCollisionStats  stats, local;
+  Cloth                  cloth;
+  MPI_Comm               comm;
+  Scene                  scene;
+  ClothCollisionSearch   search;
+  PetscReal              cell_size, margin;
+  PetscReal              friction_scale;                       /* the cloth's, read once per ClothCollisionApply */
+  ClothCollisionFriction friction;                             /* where friction of held contacts acts */
+  PetscReal              friction_velocity, stribeck_velocity; /* eps_v and v_s of the regularised law, m/s */
+  PetscBool              friction_solved;                      /* the step just taken had the friction of held contacts in its solve */
+  PetscReal             *vt_start;                             /* per owned particle held in that solve: its tangential velocity at the step's start */
+  PetscBool              verify, view, setup;
+  PetscInt               nbodies;
+  Body                  *bodies;
+  CollisionMesh         *meshes;        /* one per body; used for mesh bodies */
+  HeldContact           *held;          /* per owned particle */
+  PetscInt              *state;         /* per owned particle: the contact state of ClothCollisionGetContactField */
+  PetscReal             *normal_force;  /* per owned particle: ClothCollisionGetNormalForces */
+  HeldContact           *held_saved[2]; /* held, state and the cloth's contact normals per save slot (ClothCollisionSave) */
+  PetscInt              *state_saved[2];
+  Vec                    normal_saved[2];
+  Vec                    force;
+  ClothCollisionStats    stats, local;
 };
 
 /* ------------------------------------------------------------------------------------------------------------ */
@@ -245,11 +250,103 @@ static PetscBool RespondVelocity(const SceneBody *d, PetscReal friction_scale, c
   return PETSC_FALSE;
 }
 
+/* The regularised Coulomb law of a held contact with unit normal n, tangential velocity vt and normal force
+   normal_force (docs/collisions.md, "Friction inside the implicit step"):
+     f = -mu(u) N v_t / s,  u = |v_t|,  s = sqrt(u^2 + eps^2),  mu(u) = mu_k + (mu_s - mu_k) exp(-(u / v_s)^2),
+   and D = -df/dv_t = mu N / s (P - t t^T) + max(0, mu N eps^2 / s^3 + N mu'(u) u / s) t t^T (P = I - n n^T,
+   t = v_t / u): across the motion the force turns with v_t, along it it changes only with the regularisation and
+   the static-to-kinetic drop. The drop (mu' < 0) would make D indefinite and the system lose the positive
+   definiteness CG needs, so its part of D is left out (clamped at 0): the drop then acts explicitly. */
+static void RegularisedFriction(PetscReal mu_s, PetscReal mu_k, PetscReal normal_force, PetscReal eps, PetscReal vs, const PetscReal n[3], const PetscReal vt[3], PetscReal f[3], PetscReal D[9])
+{
+  const PetscReal u = PetscSqrtReal(Dot3(vt, vt)), s = PetscSqrtReal(u * u + eps * eps);
+  const PetscReal decay  = vs > 0 ? PetscExpReal(-PetscSqr(u / vs)) : 0.0;
+  const PetscReal mu     = mu_k + (mu_s - mu_k) * decay;
+  const PetscReal dmu    = vs > 0 ? -(mu_s - mu_k) * 2 * u / (vs * vs) * decay : 0.0;
+  const PetscReal across = mu * normal_force / s;
+  const PetscReal along  = PetscMax(0.0, mu * normal_force * eps * eps / (s * s * s) + normal_force * dmu * u / s);
+  PetscReal       t[3]   = {0, 0, 0};
+
+  if (u > 0)
+    for (PetscInt k = 0; k < 3; k++) t[k] = vt[k] / u;
+  for (PetscInt k = 0; k < 3; k++) f[k] = -across * vt[k];
+  for (PetscInt r = 0; r < 3; r++)
+    for (PetscInt c = 0; c < 3; c++) D[3 * r + c] = across * ((r == c ? 1.0 : 0.0) - n[r] * n[c] - t[r] * t[c]) + along * t[r] * t[c];
+}
+
 /* Contacts are kept within this distance beyond the thickness (so that a particle held on a curved surface
    stays held), and held ones are released beyond it. */
 static PetscReal ContactSlop(const SceneBody *d)
 {
   return PetscMax(0.5 * d->thickness, 1e-5);
+}
+
+/* ClothContactFrictionFn of -collision_friction implicit: for every owned particle held (sliding) on a body, the
+   regularised friction at the step's start velocity goes into the force (so h f into the right-hand side) and h D
+   onto its diagonal block: the linearised backward-Euler step with f(v + dv) ~ f(v) - D dv. The normal force is
+   the push into the body of the force at the step's start, N = max(0, -F.n) (the force the constraint S = I - n n^T
+   cancels). D is symmetric positive semidefinite and tangential (S D S = D): the system stays symmetric positive
+   definite. */
+static PetscErrorCode AddFrictionToImplicitStep(void *ctx, PetscReal h, Vec velocity, Vec force, Mat A)
+{
+  ClothCollision     col = (ClothCollision)ctx;
+  Vec                normals;
+  const PetscScalar *c, *v;
+  PetscScalar       *f;
+  const PetscBool   *fixed;
+  PetscReal          scale;
+  PetscInt           nlocal;
+
+  PetscFunctionBeginUser;
+  PetscCall(ClothGetSizes(col->cloth, &nlocal, NULL));
+  PetscCall(ClothGetMasses(col->cloth, NULL, &fixed));
+  PetscCall(ClothGetFrictionScale(col->cloth, &scale));
+  PetscCall(ClothGetContactNormals(col->cloth, &normals));
+  PetscCall(VecGetArrayRead(normals, &c));
+  PetscCall(VecGetArrayRead(velocity, &v));
+  PetscCall(VecGetArray(force, &f));
+  for (PetscInt i = 0; i < nlocal; i++) {
+    const SceneBody *d;
+    PetscReal        n[3], vt[3], ff[3], D[9], vn, normal_force;
+
+    for (PetscInt k = 0; k < 3; k++) col->vt_start[3 * i + k] = 0;
+    /* free, pinned, or stuck (-collision_friction explicit's S = 0, e.g. from its checkpoint): nothing to add */
+    if (fixed[i] || ClothContactScale(&c[3 * i]) != 1.0 || col->held[i].body < 0) continue;
+    for (PetscInt k = 0; k < 3; k++) n[k] = PetscRealPart(c[3 * i + k]);
+    normal_force = PetscMax(0.0, -Dot3(&f[3 * i], n));
+    PetscCall(BodyGetDescription(col->bodies[col->held[i].body], &d));
+    if (normal_force == 0 || (d->friction_static == 0 && d->friction_kinetic == 0)) continue;
+    vn = Dot3(&v[3 * i], n);
+    for (PetscInt k = 0; k < 3; k++) vt[k] = v[3 * i + k] - vn * n[k];
+    RegularisedFriction(scale * d->friction_static, scale * d->friction_kinetic, normal_force, col->friction_velocity, col->stribeck_velocity, n, vt, ff, D);
+    for (PetscInt k = 0; k < 3; k++) {
+      f[3 * i + k] += ff[k];
+      col->vt_start[3 * i + k] = vt[k];
+    }
+    for (PetscInt k = 0; k < 9; k++) D[k] *= h;
+    PetscCall(MatSetValuesBlockedLocal(A, 1, &i, 1, &i, D, ADD_VALUES));
+  }
+  PetscCall(VecRestoreArray(force, &f));
+  PetscCall(VecRestoreArrayRead(velocity, &v));
+  PetscCall(VecRestoreArrayRead(normals, &c));
+  col->friction_solved = PETSC_TRUE;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* After a step with friction in its solve, a held particle whose tangential velocity reversed: its friction was
+   linearised across the kink at v_t = 0, where the linearisation fails (the force turns by 2 mu |F_n| within
+   eps_v), and repeated reversals would leave it oscillating by about h mu |F_n| / m around rest. Friction can stop
+   a particle within a step but not reverse it: it is stopped, and the next step, linearised at rest, decides
+   whether it sticks. Within the regularisation band (|v_t| <= eps_v at the start) the linearised step converges
+   by itself and is left alone. */
+static void StopReversedSlip(const PetscReal vt_start[3], const PetscReal n[3], PetscReal eps, PetscScalar v[3])
+{
+  const PetscReal vn = Dot3(v, n);
+  PetscReal       vt[3];
+
+  for (PetscInt k = 0; k < 3; k++) vt[k] = v[k] - vn * n[k];
+  if (Dot3(vt_start, vt_start) <= eps * eps || Dot3(vt, vt_start) >= 0) return;
+  for (PetscInt k = 0; k < 3; k++) v[k] = vn * n[k];
 }
 
 /* The first triangle of mesh cm that the segment p0 -> p1 crosses from the outside, by the chosen search. */
@@ -442,7 +539,9 @@ static PetscErrorCode ContactParticle(ClothCollision col, PetscInt i, PetscReal 
   HeldContact      contact = {-1, -1, {0, 0, 0}};
   const SceneBody *d;
   PetscReal        fn, ft[3], dv[3], dvn;
-  PetscBool        stuck;
+  PetscBool        stuck = PETSC_FALSE;
+  /* held during the step just taken, with its friction in the solve */
+  const PetscBool held_in_solve = (col->friction_solved && ClothContactScale(normal) > 0) ? PETSC_TRUE : PETSC_FALSE;
 
   PetscFunctionBeginUser;
   col->normal_force[i] = 0;
@@ -470,7 +569,13 @@ static PetscErrorCode ContactParticle(ClothCollision col, PetscInt i, PetscReal 
   fn = Dot3(f, contact.normal);
   for (PetscInt k = 0; k < 3; k++) ft[k] = f[k] - fn * contact.normal[k];
   for (PetscInt k = 0; k < 3; k++) dv[k] = -v[k];
-  stuck = RespondVelocity(d, col->friction_scale, contact.normal, h * PetscMax(0.0, -fn) / mass, h * PetscSqrtReal(Dot3(ft, ft)) / mass, v);
+  if (!col->friction_solved) /* -collision_friction explicit (or an integrator without the implicit solve) */
+    stuck = RespondVelocity(d, col->friction_scale, contact.normal, h * PetscMax(0.0, -fn) / mass, h * PetscSqrtReal(Dot3(ft, ft)) / mass, v);
+  else if (held_in_solve) { /* friction acted in the solve: only the velocity into the body, and no reversal */
+    (void)RespondVelocity(d, 0.0, contact.normal, 0, 0, v);
+    StopReversedSlip(&col->vt_start[3 * i], contact.normal, col->friction_velocity, v);
+  } else /* an impact: Coulomb's impulse, bounded by the normal velocity the contact removed */
+    (void)RespondVelocity(d, col->friction_scale, contact.normal, 0, 0, v);
   /* The step moved the particle by h v_{n+1} (both Euler forms that hold contacts do): redo the tangential
      part with the velocity friction left, or a stuck particle would still creep by h^2 a_t every step. */
   for (PetscInt k = 0; k < 3; k++) dv[k] += v[k];
@@ -499,13 +604,16 @@ PetscErrorCode ClothCollisionCreate(Cloth cloth, Scene scene, ClothCollision *co
   PetscFunctionBeginUser;
   PetscCall(ClothLogRegister());
   PetscCall(PetscNew(&col));
-  col->cloth   = cloth;
-  col->scene   = scene;
-  col->comm    = scene->comm;
-  col->nbodies = scene->nbodies;
-  col->search  = CLOTH_COLLISION_SEARCH_GRID;
-  col->margin  = 0.05;
-  *collision   = col;
+  col->cloth             = cloth;
+  col->scene             = scene;
+  col->comm              = scene->comm;
+  col->nbodies           = scene->nbodies;
+  col->search            = CLOTH_COLLISION_SEARCH_GRID;
+  col->margin            = 0.05;
+  col->friction          = CLOTH_COLLISION_FRICTION_IMPLICIT;
+  col->friction_velocity = 1e-4; /* creep of a stuck particle: at most a few eps_v (docs/collisions.md) */
+  col->stribeck_velocity = 1e-2;
+  *collision             = col;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -513,6 +621,14 @@ PetscErrorCode ClothCollisionSetSearch(ClothCollision col, ClothCollisionSearch 
 {
   PetscFunctionBeginUser;
   col->search = search;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothCollisionSetFriction(ClothCollision col, ClothCollisionFriction friction)
+{
+  PetscFunctionBeginUser;
+  PetscCheck(!col->setup, col->comm, PETSC_ERR_ORDER, "Set the friction treatment before ClothCollisionSetUp");
+  col->friction = friction;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -532,7 +648,15 @@ PetscErrorCode ClothCollisionSetFromOptions(ClothCollision col)
   PetscCall(PetscOptionsReal("-collision_grid_margin", "The grid covers this rank's particles plus this margin, m; it is rebuilt when a particle leaves that region", "ClothCollisionApply", col->margin, &col->margin, NULL));
   PetscCall(PetscOptionsBool("-collision_verify", "Search every segment with the grid and brute force too; error if they differ", "ClothCollisionSetVerify", col->verify, &col->verify, NULL));
   PetscCall(PetscOptionsBool("-collision_view", "Print the bodies and the collision set-up", "ClothCollisionView", col->view, &col->view, NULL));
+  PetscCall(PetscOptionsEnum("-collision_friction", "Friction of held contacts: implicit (regularised Coulomb law and its Jacobian in the implicit step) or explicit (velocity filter after the step)", "ClothCollisionSetFriction",
+                             ClothCollisionFrictions, (PetscEnum)col->friction, (PetscEnum *)&col->friction, NULL));
+  PetscCall(PetscOptionsReal("-collision_friction_velocity", "Implicit friction: regularisation velocity eps_v, m/s (a stuck particle creeps at about eps_v |F_t| / (mu_s |F_n|))", "ClothCollisionSetFromOptions", col->friction_velocity,
+                             &col->friction_velocity, NULL));
+  PetscCall(PetscOptionsReal("-collision_friction_stribeck_velocity", "Implicit friction: the coefficient falls from static to kinetic as exp(-(|v_t|/v_s)^2), v_s in m/s (0: kinetic only)", "ClothCollisionSetFromOptions", col->stribeck_velocity,
+                             &col->stribeck_velocity, NULL));
   PetscOptionsEnd();
+  PetscCall(ClothOptionsCheckReal(col->comm, "-collision_friction_velocity", col->friction_velocity, 0, PETSC_TRUE, PETSC_MAX_REAL, "m/s"));
+  PetscCall(ClothOptionsCheckReal(col->comm, "-collision_friction_stribeck_velocity", col->stribeck_velocity, 0, PETSC_FALSE, PETSC_MAX_REAL, "m/s"));
   PetscCall(ClothOptionsCheckReal(col->comm, "-collision_cell_size", col->cell_size, 0, PETSC_FALSE, PETSC_MAX_REAL, "m"));
   /* positive: corrected particles may move slightly beyond their segment */
   PetscCall(ClothOptionsCheckReal(col->comm, "-collision_grid_margin", col->margin, 0, PETSC_TRUE, PETSC_MAX_REAL, "m"));
@@ -598,6 +722,7 @@ PetscErrorCode ClothCollisionSetUp(ClothCollision col)
   PetscCall(ClothGetSizes(col->cloth, &nlocal, NULL));
   PetscCall(PetscCalloc2(col->nbodies, &col->bodies, col->nbodies, &col->meshes));
   PetscCall(PetscMalloc1(nlocal, &col->held));
+  PetscCall(PetscCalloc1(3 * nlocal, &col->vt_start));
   PetscCall(PetscCalloc1(nlocal, &col->state)); /* CONTACT_STATE_FREE */
   PetscCall(PetscCalloc1(nlocal, &col->normal_force));
   for (PetscInt i = 0; i < nlocal; i++) col->held[i].body = -1;
@@ -610,6 +735,7 @@ PetscErrorCode ClothCollisionSetUp(ClothCollision col)
   }
   PetscCall(ClothCreateStateVec(col->cloth, &col->force));
   PetscCall(PushOutStartingInside(col));
+  if (col->friction == CLOTH_COLLISION_FRICTION_IMPLICIT) PetscCall(ClothSetContactFriction(col->cloth, AddFrictionToImplicitStep, col));
   col->setup = PETSC_TRUE;
   if (col->view) PetscCall(ClothCollisionView(col, PETSC_VIEWER_STDOUT_(col->comm)));
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -678,6 +804,7 @@ PetscErrorCode ClothCollisionApply(ClothCollision col, Vec previous, PetscReal h
   PetscCall(VecRestoreArray(x, &xa));
   PetscCall(VecRestoreArrayRead(col->force, &f));
   PetscCall(VecRestoreArrayRead(previous, &xp));
+  col->friction_solved = PETSC_FALSE; /* until the next solve with friction in it */
   PetscCall(PetscLogEventEnd(ClothLog.collision, 0, 0, 0, 0));
   PetscCall(ReduceStats(col));
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -695,6 +822,29 @@ static PetscInt FindHeldTriangle(const CollisionMesh *cm, const PetscScalar x[3]
     if (fn[0] == n[0] && fn[1] == n[1] && fn[2] == n[2]) NearestOnTriangle(cm, tri, x, &best_d2, &best, q);
   }
   return best;
+}
+
+/* The sphere or plane a held particle at x with contact normal n is on: within the thickness plus the slop, the
+   surface normal closest to n (-1: none). Implicit friction needs the body (its coefficients) of every held
+   particle. */
+static PetscErrorCode FindHeldAnalyticBody(ClothCollision col, const PetscScalar x[3], const PetscReal n[3], PetscInt *body)
+{
+  PetscReal best = -PETSC_MAX_REAL;
+
+  PetscFunctionBeginUser;
+  *body = -1;
+  for (PetscInt b = 0; b < col->nbodies; b++) {
+    const SceneBody *d;
+    PetscReal        dist, m[3];
+
+    if (col->meshes[b].mesh) continue;
+    PetscCall(BodyGetDescription(col->bodies[b], &d));
+    PetscCall(BodySignedDistance(col->bodies[b], x, &dist, m));
+    if (dist >= d->thickness + ContactSlop(d) || Dot3(m, n) <= best) continue;
+    best  = Dot3(m, n);
+    *body = b;
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 /* A held particle's constraint is its triangle's face normal, bit for bit (times CLOTH_CONTACT_STUCK when
@@ -735,8 +885,16 @@ PetscErrorCode ClothCollisionRestoreHeldContacts(ClothCollision col)
     }
     if (found)
       restored++;
-    else
+    else {
+      PetscInt b;
+
+      PetscCall(FindHeldAnalyticBody(col, &xa[3 * i], n, &b));
+      if (b >= 0) {
+        col->held[i]  = (HeldContact){b, -1, {n[0], n[1], n[2]}};
+        col->state[i] = CONTACT_STATE_HELD;
+      }
       unmatched++;
+    }
   }
   PetscCall(VecRestoreArrayRead(x, &xa));
   PetscCall(VecRestoreArrayRead(normals, &c));
@@ -799,6 +957,10 @@ PetscErrorCode ClothCollisionView(ClothCollision col, PetscViewer viewer)
                                    col->cell_size > 0 ? "" : "twice the mean triangle edge"));
   if (col->cell_size > 0) PetscCall(PetscViewerASCIIPrintf(viewer, "%g m", (double)col->cell_size));
   PetscCall(PetscViewerASCIIPrintf(viewer, "%s\n", col->verify ? ", verified against brute force" : ""));
+  if (col->friction == CLOTH_COLLISION_FRICTION_IMPLICIT)
+    PetscCall(PetscViewerASCIIPrintf(viewer, "Friction of held contacts: implicit (regularised Coulomb, eps_v %g m/s, Stribeck velocity %g m/s)\n", (double)col->friction_velocity, (double)col->stribeck_velocity));
+  else
+    PetscCall(PetscViewerASCIIPrintf(viewer, "Friction of held contacts: explicit (velocity filter after the step)\n"));
   PetscCall(PetscViewerASCIIPushTab(viewer));
   for (PetscInt b = 0; b < col->nbodies && col->setup; b++) PetscCall(BodyView(col->bodies[b], viewer));
   if (col->setup) PetscCall(PetscViewerASCIIPrintf(viewer, "%" PetscInt_FMT " particles started inside a body and were pushed out\n", col->stats.pushed_out));
@@ -853,6 +1015,8 @@ PetscErrorCode ClothCollisionDestroy(ClothCollision *collision)
   for (PetscInt b = 0; col->bodies && b < col->nbodies; b++) PetscCall(BodyDestroy(&col->bodies[b]));
   PetscCall(PetscFree2(col->bodies, col->meshes));
   PetscCall(PetscFree(col->held));
+  PetscCall(PetscFree(col->vt_start));
+  if (col->setup && col->friction == CLOTH_COLLISION_FRICTION_IMPLICIT) PetscCall(ClothSetContactFriction(col->cloth, NULL, NULL));
   PetscCall(PetscFree(col->state));
   PetscCall(PetscFree(col->normal_force));
   for (PetscInt slot = 0; slot < 2; slot++) {

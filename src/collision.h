@@ -17,7 +17,11 @@
    contact normal n goes to the cloth (ClothGetContactNormals), so that every integrator filters the
    direction n out (S = I - n n^T). A contact is released when the force on the particle pulls it away from
    the body, or when the particle has moved off the surface. Particles that start inside a body (winding
-   number / signed distance) are pushed out to the nearest surface point at set-up. */
+   number / signed distance) are pushed out to the nearest surface point at set-up.
+   With -collision_friction implicit (default) the friction of held contacts is not applied after the step but is
+   part of the implicit step itself: a regularised Coulomb force -mu(|v_t|) |F_n| v_t / sqrt(|v_t|^2 + eps_v^2)
+   and its velocity Jacobian, added through ClothSetContactFriction; only impacts get the Coulomb impulse after
+   the step. */
 #pragma once
 #include "cloth.h"
 #include "body.h"
@@ -29,6 +33,14 @@ typedef enum {
   CLOTH_COLLISION_SEARCH_BRUTE_FORCE /* every triangle for every particle */
 } ClothCollisionSearch;
 extern const char *const ClothCollisionSearches[];
+
+/* Where Coulomb friction with bodies acts (docs/collisions.md, "Friction inside the implicit step"). */
+typedef enum {
+  CLOTH_COLLISION_FRICTION_IMPLICIT, /* held contacts: a regularised Coulomb force and its velocity Jacobian in the
+                                        linearised backward-Euler system (implicit integrator; others fall back to explicit) */
+  CLOTH_COLLISION_FRICTION_EXPLICIT  /* the velocity filter after the step, stuck particles held still in the next solve */
+} ClothCollisionFriction;
+extern const char *const ClothCollisionFrictions[];
 
 /* Counts of the last ClothCollisionApply, summed over ranks (grid_rebuilds, pushed_out, verified: since set-up). */
 typedef struct {
@@ -45,9 +57,12 @@ typedef struct {
 /* The bodies of the cloth's scene; nothing is read until ClothCollisionSetUp. */
 PetscErrorCode ClothCollisionCreate(Cloth cloth, Scene scene, ClothCollision *collision);
 /* -collision_search grid|brute_force, -collision_cell_size, -collision_grid_margin, -collision_verify,
-   -collision_view. */
+   -collision_view, -collision_friction implicit|explicit, -collision_friction_velocity,
+   -collision_friction_stribeck_velocity. */
 PetscErrorCode ClothCollisionSetFromOptions(ClothCollision collision);
 PetscErrorCode ClothCollisionSetSearch(ClothCollision collision, ClothCollisionSearch search);
+/* Before ClothCollisionSetUp. */
+PetscErrorCode ClothCollisionSetFriction(ClothCollision collision, ClothCollisionFriction friction);
 /* With verify, every mesh segment is searched with both the grid and brute force and a difference is an error. */
 PetscErrorCode ClothCollisionSetVerify(ClothCollision collision, PetscBool verify);
 /* Builds the bodies (reads meshes) and pushes particles that start inside a body out. Needs the cloth set up.

@@ -14,7 +14,8 @@ add_test(NAME collision_sphere_drape_clearance
 set_tests_properties(collision_sphere_drape_clearance PROPERTIES DEPENDS collision_sphere_drape)
 
 # At rest on the sphere: 33 x 33 at dt = 1/120 s for 6 s; the kinetic energy (0.1 J while the sheet lands)
-# must fall below 1e-6 J: held contacts and static friction leave no jitter.
+# must fall below 1e-6 J: held contacts and static friction leave no jitter (measured: 6.0e-10 J with
+# -collision_friction explicit, 1.0e-7 J with implicit friction, whose stuck particles creep slowly; docs/collisions.md).
 clothsim_add_mpi_test(collision_sphere_rest 1 $<TARGET_FILE:test_run_to_rest>
   -scene input/sphere_drape.yaml -grid 33 -dt 0.008333333333333333 -t_final 6 -output_every 0
   -output_dir ${CMAKE_BINARY_DIR}/test-output/sphere_rest -expect_ke_below 1e-6 -progress_seconds 100)
@@ -25,9 +26,13 @@ clothsim_add_mpi_test(collision_sphere_rest 1 $<TARGET_FILE:test_run_to_rest>
 # agreed, 6454 before particles stuck by static friction were held still in the solve instead of crossing back
 # every step); at the end no particle is inside the body by the winding-number test (measured: 0; 30 particles
 # start inside the neck and are pushed out; 63 are in contact at the end).
+# The lower bound on verified crossings was 100 (162 measured with -collision_friction explicit); with friction in
+# the implicit step (the default since issue 27) 71 crossings happen in these 120 steps (60 in contact at the end,
+# 0 inside; why fewer particles cross the surface itself was not analysed). The bound only makes sure that the comparison
+# with brute force was exercised on many crossings, so it is 50 now.
 clothsim_add_mpi_test(collision_mannequin 1 $<TARGET_FILE:test_collision>
   -scene tests/data/mannequin_shoulders.yaml -collision_verify -progress_seconds 100
-  -expect_inside_at_most 0 -expect_verified_at_least 100 -expect_contacts_at_least 30
+  -expect_inside_at_most 0 -expect_verified_at_least 50 -expect_contacts_at_least 30
   -output_dir ${CMAKE_BINARY_DIR}/test-output/mannequin_np1)
 # A sheet dropped on one shoulder (tests/data/mannequin_shoulder.yaml) on 1 and 2 ranks: both end with nothing
 # inside and at least 5 particles in contact (measured: 70 and 51). On 2 ranks the per-rank cell grids must find
@@ -59,3 +64,24 @@ set_tests_properties(collision_mannequin_np2_grid_same_as_brute_force PROPERTIES
 # 0.32 of the friction limit and slides off at 1.3 (tests/friction_strip.sh; about 5 s).
 clothsim_add_script_test(collision_friction_strip friction_strip.sh)
 set_tests_properties(collision_friction_strip PROPERTIES PROCESSORS 1)
+
+# Friction inside the implicit step (-collision_friction implicit, the default; docs/collisions.md) on a plane tilted
+# by theta, against the analytic answers (tests/friction_incline.sh; no damping, dt 1/240 s, 1 s):
+# - a strip of 5 x 2 particles, mu_s 0.5, mu_k 0.3, tan(theta) = 0.45 = 0.9 mu_s (above mu_k: only static friction
+#   holds it): it moves at most 0.5 mm along the slope in 1 s, and creeps at the regularised law's steady speed
+#   eps_v r / sqrt(1 - r^2) = 2.065e-4 m/s (r = 0.9, eps_v = 1e-4 m/s) within 25 % (measured: 2.053e-4 m moved,
+#   2.067e-4 m/s); with -collision_friction_velocity 1e-5, 2.05e-5 m and 2.065e-5 m/s;
+# - the same strip at tan(theta) = 0.6 = 1.2 mu_s slides with g (sin(theta) - mu_k cos(theta)) = 2.52361 m/s^2
+#   within 1 % (measured between 0.5 and 1 s: 2.52361 m/s^2, error below 1e-5 relative);
+# - a 13 x 13 sheet of 0.2 x 0.2 m on a plane tilted by 25 degrees (tan = 0.466), 2 ranks: it stays with
+#   mu = 0.6 (creep 1.235e-4 m/s within 25 %, at most 0.5 mm moved; measured 1.227e-4 m at 17 x 17) and slides
+#   with mu = 0.3 at 1.47862 m/s^2 within 1 % (measured 1.47862 m/s^2).
+# The old treatment (-collision_friction explicit) passes the strip cases as well (it stops the stuck strip
+# exactly: 0 m moved), so they run with it too.
+clothsim_add_script_test(collision_friction_incline_stick friction_incline.sh stick 1 5 2 0.04 0.01 24.2277 0.5 0.3)
+clothsim_add_script_test(collision_friction_incline_slide friction_incline.sh slide 1 5 2 0.04 0.01 30.9638 0.5 0.3)
+clothsim_add_script_test(collision_friction_incline_stick_explicit friction_incline.sh stick 1 5 2 0.04 0.01 24.2277 0.5 0.3 -collision_friction explicit)
+clothsim_add_script_test(collision_friction_incline_slide_explicit friction_incline.sh slide 1 5 2 0.04 0.01 30.9638 0.5 0.3 -collision_friction explicit)
+clothsim_add_script_test(collision_friction_sheet_tilted_stays_np2 friction_incline.sh stick 2 13 13 0.2 0.2 25 0.6 0.6)
+clothsim_add_script_test(collision_friction_sheet_tilted_slides_np2 friction_incline.sh slide 2 13 13 0.2 0.2 25 0.3 0.3)
+set_tests_properties(collision_friction_sheet_tilted_stays_np2 collision_friction_sheet_tilted_slides_np2 PROPERTIES PROCESSORS 2)
