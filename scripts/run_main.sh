@@ -5,15 +5,15 @@
 #   bash scripts/run_main.sh         (BUILD_DIR=... builds and runs from another build directory)
 set -euo pipefail
 
-# The main job: the dress assembled on the mannequin (input/dress.yaml) on 2 ranks, about 27 s on two
+# The main job: the dress assembled on the mannequin (input/dress.yaml) on 2 ranks, about 38 s on two
 # idle cores. Switch the scene (and options) here; results go to output/NAME (NAME from the scene's
 # "name:") or -output_dir. For a garment (a scene with seams) the run writes quality.json, and this
 # script completes it, renders front, side and back views shaded as cloth, front and back views of the fit
 # maps (strain, pressure on the body) and a movie of the assembly (NAME.mp4) beside the XDMF. -output_overwrite: each
 # run of this script replaces the previous results (clothsim refuses that otherwise). -cloth_stiffness
-# gauss_newton: the closed-form element stiffness, 2.1x faster here (docs/performance.md). -output_every 3: a
-# frame every 0.024 s at the scene's 8 ms step (209 frames, about 47 MB), so that the movie shows the seams closing.
-MAIN_JOB=(mpiexec -n 2 build/clothsim -scene input/dress.yaml -output_overwrite -cloth_stiffness gauss_newton -output_every 3)
+# gauss_newton: the closed-form element stiffness, 2.1x faster here (docs/performance.md). -output_every 5: a
+# frame every 0.02 s (251 frames, 56 MB), so that the movie shows the seams closing (all sewn by t = 0.11 s).
+MAIN_JOB=(mpiexec -n 2 build/clothsim -scene input/dress.yaml -output_overwrite -cloth_stiffness gauss_newton -output_every 5)
 
 cd "$(dirname "$0")/.."
 bash scripts/install_deps.sh
@@ -62,9 +62,9 @@ if [ -f "$output_dir/quality.json" ]; then
       render "$view" "$map" "$output_dir/${name}_${map}_$view.png"
     done
   done
-  # The movie of the assembly: the frames of the first 1.2 s (51: the pull, the sewing, the dress settling),
+  # The movie of the assembly: the frames of the first 1.2 s (61: the pull, the sewing, the dress settling),
   # 640x480 at 12 per second, about a minute and a half on two cores.
-  /usr/bin/python3 postprocess/movie.py "$output_dir/$name.xdmf" --out "$output_dir/$name.mp4" --frames 51 --t-max 1.2 \
+  /usr/bin/python3 postprocess/movie.py "$output_dir/$name.xdmf" --out "$output_dir/$name.mp4" --frames 61 --t-max 1.2 \
     --size 640x480 --view iso < /dev/null || echo "run_main: the movie failed (are xvfb and ffmpeg installed?)"
 fi
 
@@ -76,7 +76,7 @@ Results in $output_dir:
   quality.json                 for a garment: its measured quality, with the fit maps per piece (fit_maps)
   ${name}_front.png, _side.png, _back.png      for a garment: renders shaded as cloth, a colour per piece
   ${name}_strain_front.png, _back.png, ${name}_pressure_front.png, _back.png   its fit maps
-  $name.mp4                    the assembly, 51 frames at 12 per second
+  $name.mp4                    the assembly, 61 frames at 12 per second
 Open in ParaView:    paraview $output_dir/$name.xdmf     (reader: "Xdmf3 Reader S" or "XDMF Reader")
 Without a display:   xvfb-run -a pvpython -c "from paraview.simple import *; r = Xdmf3ReaderS(FileName='$output_dir/$name.xdmf'); r.UpdatePipeline(); print(r.TimestepValues)"
 Inspect the data:    h5ls -r $output_dir/$name.h5
