@@ -144,6 +144,12 @@ PetscErrorCode ClothRunSetFromOptions(ClothRun run)
   PetscBool set_steps, set_tfinal, set_grid;
 
   PetscFunctionBeginUser;
+  /* counts beyond a PetscInt, which PETSc's parser would wrap */
+  PetscCall(ClothOptionsCheckIntText(run->comm, "-steps", 0, PETSC_MAX_INT));
+  PetscCall(ClothOptionsCheckIntText(run->comm, "-output_every", 0, PETSC_MAX_INT));
+  PetscCall(ClothOptionsCheckIntText(run->comm, "-checkpoint_every", 0, PETSC_MAX_INT));
+  PetscCall(ClothOptionsCheckIntText(run->comm, "-checkpoint_keep", 0, PETSC_MAX_INT));
+  PetscCall(ClothOptionsCheckIntText(run->comm, "-grid", 2, PETSC_MAX_INT));
   PetscOptionsBegin(run->comm, NULL, "Run (how the scene is simulated)", "ClothRun");
   PetscCall(PetscOptionsInt("-grid", "Particles per side of a scene made of one rectangular piece", "SceneSetGridSize", grid, &grid, &set_grid));
   PetscCall(PetscOptionsReal("-dt", "Time step, s (default on -restart: the checkpoint's)", "ClothRunSolve", run->dt, &run->dt, &run->dt_set));
