@@ -406,7 +406,9 @@ static PetscErrorCode ClothRunClaimOutput(ClothRun run)
   PetscCall(ClothFileMakeDirectory(run->comm, run->output_dir));
   PetscCall(PetscSNPrintf(holder, sizeof(holder), "scene %s", run->scene->name));
   PetscCall(ClothFileLockDirectory(run->comm, run->output_dir, holder, &run->output_lock));
-  /* the longest name the run will open, checked now rather than at its first checkpoint, after the computing */
+  /* the longest names the run will open, checked before its first file (which fixes Open MPI's MPI-IO component,
+     h5util.h) rather than at its first checkpoint, after the computing */
+  if (run->restart[0]) PetscCall(ClothH5CheckPathLength(run->comm, run->restart));
   PetscCall(PetscSNPrintf(path, sizeof(path), "%s/.checkpoint_%06d.h5.tmp", run->output_dir, 0));
   PetscCall(ClothH5CheckPathLength(run->comm, path));
   PetscCall(PetscSNPrintf(path, sizeof(path), "%s/%s.h5", run->output_dir, run->scene->name));
