@@ -1,6 +1,5 @@
 /* Garment quality at the end of a run (see quality.h). */
 #include "quality.h"
-#include "sewing.h"
 #include "fileutil.h"
 
 /* Prints the n particles with the largest strain (natural Vec), with their piece and grid node. */
@@ -81,11 +80,8 @@ static PetscErrorCode WriteSeamLinks(Cloth cloth, FILE *fp)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode ClothRunWriteQuality(ClothRun run, const char path[], PetscReal wall_seconds)
+PetscErrorCode ClothQualityWrite(Cloth cloth, ClothCollision collision, ClothSewing sewing, uint64_t run_id, const char path[], PetscReal wall_seconds)
 {
-  Cloth            cloth;
-  ClothCollision   collision;
-  ClothSewing      sewing;
   ClothSewingPhase phase;
   ClothEnergy      energy;
   Vec              x, v;
@@ -97,12 +93,9 @@ PetscErrorCode ClothRunWriteQuality(ClothRun run, const char path[], PetscReal w
   char             tmp[CLOTH_PATH_LEN];
 
   PetscFunctionBeginUser;
-  PetscCall(ClothRunGetCloth(run, &cloth));
   PetscCall(ClothGetComm(cloth, &comm));
-  PetscCall(ClothRunGetCollision(run, &collision));
-  PetscCall(ClothRunGetSewing(run, &sewing));
-  PetscOptionsBegin(comm, NULL, "Garment quality (written at the end of a run with seams)", "ClothRunWriteQuality");
-  PetscCall(PetscOptionsInt("-quality_worst", "Print this many of the widest seam pairs and of the most strained particles, with their pieces and grid nodes", "ClothRunWriteQuality", worst, &worst, NULL));
+  PetscOptionsBegin(comm, NULL, "Garment quality (written at the end of a run with seams)", "ClothQualityWrite");
+  PetscCall(PetscOptionsInt("-quality_worst", "Print this many of the widest seam pairs and of the most strained particles, with their pieces and grid nodes", "ClothQualityWrite", worst, &worst, NULL));
   PetscOptionsEnd();
   if (sewing) PetscCall(ClothSewingGetStatus(sewing, &phase, &sewn, &total, &gap));
   if (sewing) PetscCall(ClothSewingViewWidest(sewing, worst));
@@ -116,6 +109,7 @@ PetscErrorCode ClothRunWriteQuality(ClothRun run, const char path[], PetscReal w
   PetscCall(PetscFPrintf(comm, fp, "{\n  \"max_seam_gap_m\": %.6e,\n  \"sewn_pairs\": %" PetscInt_FMT ",\n  \"seam_pairs\": %" PetscInt_FMT ",\n", (double)gap, sewn, total));
   PetscCall(PetscFPrintf(comm, fp, "  \"particles_inside_body\": %" PetscInt_FMT ",\n  \"max_link_strain\": %.6e,\n  \"kinetic_energy_j\": %.6e,\n", inside, (double)strain, (double)energy.kinetic));
   PetscCall(PetscFPrintf(comm, fp, "  \"wall_s\": %.3f,\n  \"ranks\": %d,\n", (double)wall_seconds, (int)size));
+  PetscCall(PetscFPrintf(comm, fp, "  \"run_id\": \"%016llx\",\n", (unsigned long long)run_id)); /* a string: a JSON number is a double */
   PetscCall(WriteSeamLinks(cloth, fp));
   PetscCall(PetscFPrintf(comm, fp, "}\n"));
   PetscCall(ClothFileCommitText(comm, fp, tmp, path));

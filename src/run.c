@@ -665,20 +665,13 @@ PetscErrorCode ClothRunSolve(ClothRun run)
   if (run->sewing) { /* a garment: measure how well it is assembled */
     char path[CLOTH_PATH_LEN];
     PetscCall(PetscSNPrintf(path, sizeof(path), "%s/quality.json", run->output_dir));
-    PetscCall(ClothRunWriteQuality(run, path, WallTime() - start));
+    PetscCall(ClothQualityWrite(run->cloth, run->collision, run->sewing, run->run_id, path, WallTime() - start));
   }
   PetscCall(ClothIntegratorViewSystem(run->integrator, PETSC_VIEWER_STDOUT_(run->comm)));
   PetscCall(ClothIntegratorGetPCFallbacks(run->integrator, &fallbacks));
   if (fallbacks) PetscCall(PetscPrintf(run->comm, "Preconditioner breakdowns: %" PetscInt_FMT " solves redone by the fallback solver (-fallback_ksp_type, -fallback_pc_type)\n", fallbacks));
   PetscCall(PetscPrintf(run->comm, "Done: %" PetscInt_FMT " steps (%" PetscInt_FMT " sub-steps), %" PetscInt_FMT " Krylov iterations, %.2f s wall. Results: %s/%s.xdmf (open in ParaView), checkpoint %s\n", run->step - first_step, run->substeps_total,
                         run->krylov_total, WallTime() - start, run->output_dir, run->scene->name, run->last_checkpoint));
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-PetscErrorCode ClothRunGetSewing(ClothRun run, ClothSewing *sewing)
-{
-  PetscFunctionBeginUser;
-  *sewing = run->sewing;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -17,6 +17,4 @@ PetscErrorCode ClothRunSolve(ClothRun run);
 PetscErrorCode ClothRunGetCloth(ClothRun run, Cloth *cloth);
 /* The collision handler (borrowed; NULL when the scene has no bodies). */
 PetscErrorCode ClothRunGetCollision(ClothRun run, ClothCollision *collision);
-/* The sewing phases of a scene with seams (NULL without seams). */
-PetscErrorCode ClothRunGetSewing(ClothRun run, ClothSewing *sewing);
 PetscErrorCode ClothRunDestroy(ClothRun *run);
