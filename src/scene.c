@@ -1410,6 +1410,8 @@ static PetscErrorCode SceneReadSeams(SceneReader *r, yaml_node_t *root, Scene sc
   PetscCall(SceneGetValue(r, root, "seams", &list));
   if (!list) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(SceneGetItems(r, list, "seams", -1, expected, &items, &scene->nseams));
+  PetscCheck(scene->nseams <= SCENE_MAX_SEAMS, r->comm, PETSC_ERR_USER_INPUT, "scene %s, line %d: key 'seams': expected at most %d seams (what a checkpoint stores exactly: the sewn seams of a particle are bits of a float64), got %" PetscInt_FMT, r->path,
+             SceneNodeLine(list), SCENE_MAX_SEAMS, scene->nseams);
   PetscCall(PetscCalloc1(scene->nseams, &scene->seams));
   for (PetscInt k = 0; k < scene->nseams; k++) {
     yaml_node_t *map  = yaml_document_get_node(r->doc, items[k]);
