@@ -155,11 +155,57 @@ typedef enum {
 static const char *const SceneRealRangeAdjective[] = {"", "positive ", "non-negative ", ""};
 static const char *const SceneRealRangeSuffix[]    = {"", "", "", " in [0, 1)"};
 
+/* An upper bound of the magnitude of a real key (in blocks whose name starts with block; "" any block): beyond it
+   the value is no physical cloth scene but a typo or a unit mistake (1e308, mg for kg, mm for m), which would
+   overflow the arithmetic or throw the fabric; why says so in the message. docs/scene_format.md lists them. */
 typedef struct {
-  MPI_Comm         comm;
-  const char      *path;
-  yaml_document_t *doc;
-  char             block[2 * CLOTH_NAME_LEN + 16]; /* the block being read: "fabric 'net'", "piece 2", "run"; "" at the top level */
+  const char *block, *key;
+  PetscReal   max;
+  const char *why;
+} SceneRealBound;
+
+/* Densest sheet: 1 cm of steel, 78 kg/m^2 (fabrics: below 2). Stiffest sheet: 5 mm of steel, E t = 1e9 N/m
+   (fabrics: below 1e5 N/m). Friction coefficients of fabrics: below 2. */
+static const SceneRealBound SceneRealBounds[] = {
+  {"",        "density",             100,  "a sheet denser than 1 cm of steel, 78 kg/m^2"                       },
+  {"",        "W",                   1e4,  "100 kg/m^2, a sheet denser than 1 cm of steel"                      },
+  {"",        "stretch",             1e9,  "stiffer than a 5 mm steel plate, E t = 1e9 N/m"                     },
+  {"",        "stretch_stiff",       1e9,  "stiffer than a 5 mm steel plate, E t = 1e9 N/m"                     },
+  {"",        "shear",               1e9,  "stiffer than a 5 mm steel plate, E t = 1e9 N/m"                     },
+  {"",        "bend",                1e9,  "as a link stiffness, stiffer than a 5 mm steel plate"               },
+  {"",        "damping",             1e6,  "a relaxation time below 1 microsecond"                              },
+  {"",        "repulsion_stiffness", 1e6,  "a million times the stretch stiffness"                              },
+  {"",        "static",              10,   "friction coefficients of fabrics are below 2"                       },
+  {"",        "kinetic",             10,   "friction coefficients of fabrics are below 2"                       },
+  {"",        "size",                1e3,  "a piece a kilometre across: a unit mistake"                         },
+  {"",        "radius",              1e3,  "a kilometre: a unit mistake"                                        },
+  {"body",    "thickness",           1,    "a contact shell a metre thick"                                      },
+  {"",        "dt",                  10,   "a cloth time step of more than 10 s"                                },
+  {"",        "t_final",             1e6,  "more than 11 days of simulated time"                                },
+  {"",        "gravity",             1e3,  "100 g"                                                              },
+  {"",        "center",              1e6,  "1000 km, the bound of mesh coordinates"                             },
+  {"",        "point",               1e6,  "1000 km, the bound of mesh coordinates"                             },
+  {"",        "origin",              1e6,  "1000 km, the bound of mesh coordinates"                             },
+  {"",        "translation",         1e6,  "1000 km, the bound of mesh coordinates"                             },
+  {"",        "axis_point",          1e6,  "1000 km, the bound of mesh coordinates"                             },
+  {"",        "apex",                1e6,  "1000 km, the bound of mesh coordinates"                             },
+  {"",        "scale",               1e3,  "a mesh scaled beyond metres from millimetres"                       },
+  {"self",    "stiffness",           1e9,  "stiffer than a 5 mm steel plate, E t = 1e9 N/m"                     },
+  {"sewing",  "pull_acceleration",   1e4,  "a pull of 1000 g"                                                   },
+  {"sewing",  "pull_radius",         10,   "a pull reaching 10 m"                                               },
+  {"sewing",  "sewn_stiffness",      1e9,  "stiffer than a 5 mm steel plate, E t = 1e9 N/m"                     },
+  {"sewing",  "tolerance",           1,    "pairs a metre apart counted as sewn"                                },
+  {"sewing",  "max_time",            1e6,  "more than 11 days of simulated time"                                },
+  {"sewing",  "pull_friction",       10,   "friction coefficients of fabrics are below 2"                       },
+  {NULL,      NULL,                  0,    NULL                                                                 }
+};
+
+typedef struct {
+  MPI_Comm              comm;
+  const char           *path;
+  yaml_document_t      *doc;
+  char                  block[2 * CLOTH_NAME_LEN + 16]; /* the block being read: "fabric 'net'", "piece 2", "run"; "" at the top level */
+  const SceneRealBound *bounds;                         /* upper bounds of real keys, ended by a NULL key */
 } SceneReader;
 
 /* ------------------------------------------------------------------------------------------------------------ */
@@ -275,6 +321,19 @@ static PetscErrorCode SceneExpectReal(PetscInt count, SceneRealRange range, cons
   else
     PetscCall(PetscSNPrintf(buf, len, "a %snumber%s%s", SceneRealRangeAdjective[range], SceneRealRangeSuffix[range], units));
   PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The bound of key in the block being read (key_warp and key_weft share key's), or NULL. */
+static const SceneRealBound *SceneRealBoundOf(SceneReader *r, const char key[])
+{
+  char   base[CLOTH_NAME_LEN];
+  size_t n = strlen(key);
+
+  snprintf(base, sizeof(base), "%s", key);
+  if (n > 5 && (!strcmp(key + n - 5, "_warp") || !strcmp(key + n - 5, "_weft"))) base[n - 5] = 0;
+  for (const SceneRealBound *b = r->bounds; b && b->key; b++)
+    if (!strcmp(b->key, base) && !strncmp(r->block, b->block, strlen(b->block))) return b;
+  return NULL;
 }
 
 /* "an integer >= 2" (count 0) or "a list of 2 integers >= 2"; min PETSC_MIN_INT: no bound */
@@ -446,10 +505,11 @@ static PetscErrorCode SceneGetNumberText(SceneReader *r, yaml_node_t *node, yaml
 
 static PetscErrorCode SceneParseReal(SceneReader *r, yaml_node_t *node, yaml_node_t *errnode, const char key[], SceneRealRange range, const char expected[], PetscReal *value)
 {
-  const char *text = NULL;
-  char       *end;
-  double      x;
-  PetscBool   ok;
+  const SceneRealBound *bound = SceneRealBoundOf(r, key);
+  const char           *text  = NULL;
+  char                 *end;
+  double                x;
+  PetscBool             ok;
 
   PetscFunctionBeginUser;
   PetscCall(SceneGetNumberText(r, node, errnode, key, expected, &text));
@@ -460,6 +520,7 @@ static PetscErrorCode SceneParseReal(SceneReader *r, yaml_node_t *node, yaml_nod
   if (range == SCENE_REAL_NONNEGATIVE) ok = (ok && x >= 0) ? PETSC_TRUE : PETSC_FALSE;
   if (range == SCENE_REAL_FRACTION) ok = (ok && x >= 0 && x < 1) ? PETSC_TRUE : PETSC_FALSE;
   if (!ok) PetscCall(SceneFailValue(r, errnode, key, "%s", expected));
+  if (bound && PetscAbsReal((PetscReal)x) > bound->max) PetscCall(SceneFailValue(r, errnode, key, "%s, of magnitude at most %g (beyond: %s)", expected, (double)bound->max, bound->why));
   *value = (PetscReal)x;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -1557,7 +1618,7 @@ static PetscErrorCode SceneParse(MPI_Comm comm, const char bytes[], size_t len, 
 {
   yaml_parser_t   parser;
   yaml_document_t doc, extra;
-  SceneReader     reader = {comm, scene->path, &doc, ""};
+  SceneReader     reader = {comm, scene->path, &doc, "", SceneRealBounds};
   PetscErrorCode  ierr;
   PetscBool       more;
 
