@@ -113,7 +113,11 @@ def read_scene(path):
 
 
 def piece_grids(scene, grid_override=None):
-    """[(name, nu, nv, offset)] in scene order; grid_override is the run's -grid N (one-piece scenes)."""
+    """[(name, nu, nv, offset)] in scene order: the natural particle numbering (src/model.c), piece by piece,
+    each row by row (i fastest), so particle offset + j * nu + i is node (i, j) of the piece. grid_override is
+    the run's -grid N (one-piece scenes). The one implementation of the numbering in postprocess/: energy.py,
+    garment_quality.py and the validation scripts use it. KeyError for a piece with neither grid nor
+    boundaries nodes."""
     out, offset = [], 0
     for piece in scene["pieces"]:
         if "grid" in piece:
@@ -123,9 +127,17 @@ def piece_grids(scene, grid_override=None):
             nu, nv = nodes[0], nodes[1]
         if grid_override:
             nu = nv = grid_override
-        out.append((piece["name"], nu, nv, offset))
+        out.append((piece.get("name", ""), nu, nv, offset))
         offset += nu * nv
     return out
+
+
+def particle_name(grids, g):
+    """"piece (i, j)": the piece and grid node of natural particle g, for grids = piece_grids(...)."""
+    for name, nu, nv, offset in grids:
+        if offset <= g < offset + nu * nv:
+            return f"{name} ({(g - offset) % nu}, {(g - offset) // nu})"
+    raise IndexError(f"particle {g} is beyond the {grids[-1][3] + grids[-1][1] * grids[-1][2] if grids else 0} particles of the pieces")
 
 
 def piece_positions(x, nu, nv, offset):

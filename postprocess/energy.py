@@ -30,7 +30,7 @@ import sys
 
 import numpy as np
 
-from cloth_state import finish_axis, read_series, save_figure, series_h5, write_csv
+from cloth_state import finish_axis, piece_grids, read_series, save_figure, series_h5, write_csv
 
 
 def quad_areas(x, quads):
@@ -41,23 +41,16 @@ def quad_areas(x, quads):
 
 
 def piece_ranges(scene, nparticles, grid):
-    """[(first, count, piece dict)] of the scene's pieces; grid overrides one-piece grid scenes (-grid N)."""
-    pieces, offset = [], 0
-    for piece in scene.get("pieces", []):
-        if grid:
-            nu = nv = grid
-        elif "grid" in piece:
-            nu, nv = piece["grid"]
-        else:
-            nodes = piece.get("boundaries", {}).get("nodes")
-            if not nodes:
-                return None
-            nu, nv = nodes[0], nodes[1]
-        pieces.append((offset, nu * nv, piece))
-        offset += nu * nv
-    if offset != nparticles:
+    """[(first, count, piece dict)] of the scene's pieces (the numbering of cloth_state.piece_grids); grid
+    overrides one-piece grid scenes (-grid N). None when a piece's grid is unknown or the counts do not add
+    up to nparticles."""
+    try:
+        grids = piece_grids(scene, grid)
+    except (KeyError, TypeError):
         return None
-    return pieces
+    if not grids or grids[-1][3] + grids[-1][1] * grids[-1][2] != nparticles:
+        return None
+    return [(offset, nu * nv, piece) for (_, nu, nv, offset), piece in zip(grids, scene["pieces"])]
 
 
 def particle_masses(rest, quads, scene, density, grid):

@@ -35,6 +35,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests"))
 from check_self_intersection import crossings, primitives  # noqa: E402
+from cloth_state import particle_name, piece_grids, read_scene  # noqa: E402
 
 
 def joined_pairs(seam_links, n):
@@ -70,24 +71,12 @@ def last_frame_crossings(h5path, seam_links=(), examples=0):
 
 
 def particle_namer(scene_path):
-    """A function naming a particle "piece (i, j)" from the scene's pieces (natural order: piece by piece,
-    i fastest); without a scene, by its number."""
+    """A function naming a particle "piece (i, j)" from the scene's pieces (cloth_state.piece_grids); without a
+    scene, by its number."""
     if not scene_path:
         return str
-    import yaml
-    with open(scene_path) as f:
-        scene = yaml.safe_load(f)
-    pieces, first = [], 0
-    for piece in scene["pieces"]:
-        nu, nv = piece["grid"]
-        pieces.append((piece["name"], first, nu))
-        first += nu * nv
-
-    def name(g):
-        for piece, start, nu in reversed(pieces):
-            if g >= start:
-                return f"{piece} ({(g - start) % nu}, {(g - start) // nu})"
-    return name
+    grids = piece_grids(read_scene(scene_path))
+    return lambda g: particle_name(grids, g)
 
 
 def report_worst(n, hits, strain, name):

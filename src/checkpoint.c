@@ -17,6 +17,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 #include "checkpoint.h"
 #include "fileutil.h"
 #include "h5util.h"
@@ -293,10 +294,108 @@ static PetscErrorCode CheckpointCheckSpace(MPI_Comm comm, const char dir[], cons
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* After a read or a write that failed half-way: closes what it left open in the file (a group, a dataset,
+   an attribute), since parallel HDF5 closes a file only when nothing in it is open. HDF5's error printing is
+   off, and a failure here changes nothing: the file is being refused or deleted anyway. */
+static PetscErrorCode CheckpointCloseObjects(hid_t file)
+{
+  const unsigned types = H5F_OBJ_DATASET | H5F_OBJ_GROUP | H5F_OBJ_ATTR | H5F_OBJ_LOCAL;
+  ssize_t        n     = H5Fget_obj_count(file, types);
+  hid_t         *ids;
+
+  PetscFunctionBeginUser;
+  if (n > 0) {
+    PetscCall(PetscMalloc1(n, &ids));
+    n = H5Fget_obj_ids(file, types, (size_t)n, ids);
+    for (ssize_t i = 0; i < n; i++) (void)(H5Iget_type(ids[i]) == H5I_ATTR ? H5Aclose(ids[i]) : H5Oclose(ids[i]));
+    PetscCall(PetscFree(ids));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* After a read that failed half-way: closes what it left open, then the file (opened read-only, so its close
+   writes nothing and does not fail). */
+static PetscErrorCode CheckpointCloseAfterFailure(hid_t *file)
+{
+  PetscFunctionBeginUser;
+  PetscCall(CheckpointCloseObjects(*file));
+  (void)H5Fclose(*file);
+  *file = -1;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Why the first failing rank failed (the message of its first error), on every rank. Collective. */
+static PetscErrorCode CheckpointFailureReason(MPI_Comm comm, PetscErrorCode ierr, char reason[], size_t len)
+{
+  PetscMPIInt rank, size, first;
+  const char *text;
+  char       *specific = NULL;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  first = ierr ? rank : size;
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &first, 1, MPI_INT, MPI_MIN, comm));
+  reason[0] = 0;
+  if (rank == first) {
+    PetscCall(PetscErrorMessage(ierr, &text, &specific));
+    PetscCall(PetscStrncpy(reason, specific && specific[0] ? specific : text, len));
+  }
+  PetscCallMPI(MPI_Bcast(reason, (PetscMPIInt)len, MPI_CHAR, first, comm));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Writes the whole checkpoint to tmp. Any failure inside it (a disk that fills during HDF5's writes although
+   the space check passed, a file size limit, an I/O error) is caught on every rank: the file is deleted and
+   the error names it and the reason, so that no half checkpoint is left and the newest complete one stays
+   the newest. Collective; the failure is agreed on by all ranks after the write, so a rank whose part
+   succeeded does not wait forever. The file is emptied before it is closed: closing flushes HDF5's metadata
+   into it, and a failed H5Fclose in HDF5 1.10 leaves a dangling identifier that crashes the library's
+   clean-up at MPI_Finalize (measured with a file size limit, where emptying does not help: see
+   tests/checkpoint_write_failure.sh). */
+static PetscErrorCode CheckpointWriteTemporary(MPI_Comm comm, const char tmp[], const ClothCheckpointInfo *info, PetscInt nfields, const ClothCheckpointField fields[])
+{
+  PetscErrorCode ierr;
+  H5E_auto2_t    print_errors;
+  void          *print_errors_data;
+  PetscMPIInt    rank;
+  int            failed;
+  hid_t          file = -1;
+  char           reason[512];
+
+  PetscFunctionBeginUser;
+  ClothCallHDF5(H5Eget_auto2(H5E_DEFAULT, &print_errors, &print_errors_data));
+  ClothCallHDF5(H5Eset_auto2(H5E_DEFAULT, NULL, NULL));
+  PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));
+  ierr = ClothH5FileCreate(comm, tmp, &file);
+  if (!ierr) ierr = CheckpointWriteFile(comm, file, info, nfields, fields);
+  if (!ierr) ierr = ClothH5FileClose(&file);
+  PetscCall(PetscPopErrorHandler());
+  failed = ierr != 0;
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &failed, 1, MPI_INT, MPI_LOR, comm));
+  if (!failed) {
+    ClothCallHDF5(H5Eset_auto2(H5E_DEFAULT, print_errors, print_errors_data));
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
+  PetscCall(CheckpointFailureReason(comm, ierr, reason, sizeof(reason)));
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  if (file >= 0) {
+    PetscCall(CheckpointCloseObjects(file));
+    PetscCallMPI(MPI_Barrier(comm));
+    if (rank == 0 && truncate(tmp, 0) != 0) { /* frees the file's blocks: room on a full disk for what the close writes; if not, the close may fail */
+    }
+    PetscCallMPI(MPI_Barrier(comm));
+    (void)H5Fclose(file);
+  }
+  PetscCallMPI(MPI_Barrier(comm));
+  if (rank == 0) (void)remove(tmp);
+  PetscCheck(!failed, comm, PETSC_ERR_FILE_WRITE, "Cannot write checkpoint %s: %s; it was deleted, the checkpoints already written are left as they were", tmp, reason);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode ClothCheckpointWrite(MPI_Comm comm, const char dir[], const ClothCheckpointInfo *info, PetscInt nfields, const ClothCheckpointField fields[], PetscInt keep, char path_out[], size_t path_len)
 {
-  char  path[CLOTH_PATH_LEN], tmp[CLOTH_PATH_LEN];
-  hid_t file;
+  char path[CLOTH_PATH_LEN], tmp[CLOTH_PATH_LEN];
 
   PetscFunctionBeginUser;
   PetscCheck(info->step >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "Checkpoint step %" PetscInt64_FMT " must be >= 0", info->step);
@@ -304,9 +403,7 @@ PetscErrorCode ClothCheckpointWrite(MPI_Comm comm, const char dir[], const Cloth
   PetscCall(PetscSNPrintf(tmp, sizeof(tmp), "%s/.checkpoint_%06" PetscInt64_FMT ".h5.tmp", dir, info->step));
   PetscCall(ClothFileMakeDirectory(comm, dir));
   PetscCall(CheckpointCheckSpace(comm, dir, tmp, nfields, fields));
-  PetscCall(ClothH5FileCreate(comm, tmp, &file));
-  PetscCall(CheckpointWriteFile(comm, file, info, nfields, fields));
-  PetscCall(ClothH5FileClose(&file));
+  PetscCall(CheckpointWriteTemporary(comm, tmp, info, nfields, fields));
   PetscCall(ClothFileRename(comm, tmp, path));
   if (keep > 0) PetscCall(CheckpointRemoveOld(comm, dir, info->step, keep, info->run_id));
   if (path_out) PetscCall(PetscStrncpy(path_out, path, path_len));
@@ -463,27 +560,6 @@ static PetscErrorCode CheckpointReadFile(MPI_Comm comm, hid_t file, const ClothC
   if (!refusal->code) PetscCall(CheckpointCheckScene(info, expect, nparticles, refusal));
   for (PetscInt f = 0; f < nfields && !refusal->code; f++) PetscCall(CheckpointReadField(state, &fields[f], refusal));
   ClothCallHDF5(H5Gclose(state));
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-/* After a read that failed half-way: closes what it left open in the file (a group, a dataset, an
-   attribute), since parallel HDF5 closes a file only when nothing in it is open, then the file. HDF5's
-   error printing is off, and a failure here changes nothing: the file is being refused anyway. */
-static PetscErrorCode CheckpointCloseAfterFailure(hid_t *file)
-{
-  const unsigned types = H5F_OBJ_DATASET | H5F_OBJ_GROUP | H5F_OBJ_ATTR | H5F_OBJ_LOCAL;
-  ssize_t        n     = H5Fget_obj_count(*file, types);
-  hid_t         *ids;
-
-  PetscFunctionBeginUser;
-  if (n > 0) {
-    PetscCall(PetscMalloc1(n, &ids));
-    n = H5Fget_obj_ids(*file, types, (size_t)n, ids);
-    for (ssize_t i = 0; i < n; i++) (void)(H5Iget_type(ids[i]) == H5I_ATTR ? H5Aclose(ids[i]) : H5Oclose(ids[i]));
-    PetscCall(PetscFree(ids));
-  }
-  (void)H5Fclose(*file);
-  *file = -1;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -1,10 +1,24 @@
 /* Parallel HDF5 helpers: see h5util.h. */
+#define _POSIX_C_SOURCE 200809L
+#include <errno.h>
 #include <stdlib.h>
 #include <string.h>
 #include "h5util.h"
 
 /* The longest file name Open MPI 4.1's ompio opens (measured: 244 opens, 245 aborts in MPI_File_open). */
 #define CLOTH_OMPIO_PATH_MAX 244
+
+/* Open MPI's ROMIO component, which opens long names: romio321 in Open MPI 4, romio341 in 5. */
+#if defined(OPEN_MPI) && OMPI_MAJOR_VERSION >= 5
+  #define CLOTH_OMPI_ROMIO "romio341"
+#else
+  #define CLOTH_OMPI_ROMIO "romio321"
+#endif
+
+/* Whether this process has opened an HDF5 file: Open MPI opens its MPI-IO framework, and so fixes the components
+   it chooses from, at the first MPI_File_open (measured with Open MPI 4.1.4: OMPI_MCA_io set after MPI_Init but
+   before the first open takes effect, set after it does not). */
+static PetscBool H5FileOpened = PETSC_FALSE;
 
 #if defined(PETSC_USE_COMPLEX) || !defined(PETSC_USE_REAL_DOUBLE)
 #error "clothsim writes PetscScalar as float64: it needs a real, double precision PETSc build"
@@ -37,8 +51,13 @@ PetscErrorCode ClothH5CheckPathLength(MPI_Comm comm, const char path[])
   {
     const char *io = getenv("OMPI_MCA_io");
 
-    PetscCheck(strlen(path) <= CLOTH_OMPIO_PATH_MAX || (io && strstr(io, "romio")), comm, PETSC_ERR_FILE_OPEN,
-               "HDF5 file %s: the path has %zu characters; Open MPI's MPI-IO (ompio) aborts on more than %d: use a shorter -output_dir (or a relative one), or run with OMPI_MCA_io=romio321", path, strlen(path), CLOTH_OMPIO_PATH_MAX);
+    if (strlen(path) <= CLOTH_OMPIO_PATH_MAX || (io && strstr(io, "romio"))) PetscFunctionReturn(PETSC_SUCCESS);
+    PetscCheck(!io && !H5FileOpened, comm, PETSC_ERR_FILE_OPEN,
+               "HDF5 file %s: the path has %zu characters; Open MPI's MPI-IO component ompio aborts on more than %d, and %s: use a shorter -output_dir (or a relative one), or run with OMPI_MCA_io=%s", path, strlen(path),
+               CLOTH_OMPIO_PATH_MAX, io ? "OMPI_MCA_io chooses it" : "a file was opened before this path was known, so the component is fixed", CLOTH_OMPI_ROMIO);
+    /* every rank takes the same branch: the path, the environment mpiexec passed and the files opened are alike */
+    PetscCheck(setenv("OMPI_MCA_io", CLOTH_OMPI_ROMIO, 1) == 0, comm, PETSC_ERR_SYS, "Cannot set OMPI_MCA_io for the long path %s: %s", path, strerror(errno));
+    PetscCall(PetscInfo(NULL, "HDF5 file %s: %zu characters, more than ompio opens: Open MPI's MPI-IO component %s chosen\n", path, strlen(path), CLOTH_OMPI_ROMIO));
   }
 #endif
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -51,6 +70,7 @@ PetscErrorCode ClothH5FileCreate(MPI_Comm comm, const char path[], hid_t *file)
   PetscFunctionBeginUser;
   PetscCall(ClothH5CheckPathLength(comm, path));
   PetscCall(H5FileAccessCreate(comm, &fapl));
+  H5FileOpened = PETSC_TRUE;
   ClothCallHDF5(*file = H5Fcreate(path, H5F_ACC_TRUNC, H5P_DEFAULT, fapl));
   ClothCallHDF5(H5Pclose(fapl));
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -68,6 +88,7 @@ PetscErrorCode ClothH5FileOpen(MPI_Comm comm, const char path[], unsigned flags,
   PetscCall(H5FileAccessCreate(comm, &fapl));
   ClothCallHDF5(H5Eget_auto2(H5E_DEFAULT, &print_errors, &print_errors_data));
   ClothCallHDF5(H5Eset_auto2(H5E_DEFAULT, NULL, NULL));
+  H5FileOpened = PETSC_TRUE;
   *file = H5Fopen(path, flags, fapl);
   ClothCallHDF5(H5Eset_auto2(H5E_DEFAULT, print_errors, print_errors_data));
   ClothCallHDF5(H5Pclose(fapl));

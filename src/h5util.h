@@ -10,10 +10,13 @@
 #include <petscvec.h>
 #include "util.h"
 
-/* Errors, naming the path, when it is longer than the MPI-IO in use can open: Open MPI 4's default component,
-   ompio, aborts the whole run ("buffer overflow detected") on a file name of more than 244 characters, so the
-   check is made before opening and, by the run, before its first step. Open MPI's romio321 component
-   (OMPI_MCA_io=romio321) has no such limit; with it, or another MPI, this checks nothing. Collective. */
+/* Makes sure that the MPI-IO in use can open path. Open MPI 4's default component, ompio, aborts the whole run
+   ("buffer overflow detected") on a file name of more than 244 characters; its ROMIO component (romio321) has no
+   such limit, and Open MPI chooses among its components at the first file open of the process. So a long path
+   seen before any HDF5 file is opened selects ROMIO (OMPI_MCA_io=romio321 in this process's environment); one
+   seen later, or with OMPI_MCA_io set to another component, is refused naming the path and the way out. The run
+   calls it for its longest names before its first file, and every open calls it again. With another MPI this
+   checks nothing. Collective. */
 PetscErrorCode ClothH5CheckPathLength(MPI_Comm comm, const char path[]);
 /* Creates (truncating) an HDF5 file for parallel access. */
 PetscErrorCode ClothH5FileCreate(MPI_Comm comm, const char path[], hid_t *file);

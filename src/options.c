@@ -1,6 +1,8 @@
 /* Checks of run-time option values: see options.h. Messages with reals are formatted by snprintf: PETSc's
    printf writes %g of 1 and inf as "1." and "inf.". */
+#include <errno.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include "options.h"
 
 PetscErrorCode ClothOptionsCheckReal(MPI_Comm comm, const char option[], PetscReal value, PetscReal min, PetscBool min_open, PetscReal max, const char unit[])
@@ -23,4 +25,21 @@ PetscErrorCode ClothOptionsCheckInt(MPI_Comm comm, const char option[], PetscInt
   if (value >= min && value <= max) PetscFunctionReturn(PETSC_SUCCESS);
   if (max < PETSC_MAX_INT) PetscCall(PetscSNPrintf(upper, sizeof(upper), " and <= %" PetscInt_FMT, max));
   SETERRQ(comm, PETSC_ERR_USER_INPUT, "option %s %" PetscInt_FMT ": expected an integer >= %" PetscInt_FMT "%s", option, value, min, upper);
+}
+
+PetscErrorCode ClothOptionsCheckIntText(MPI_Comm comm, const char option[], PetscInt min, PetscInt max)
+{
+  char      text[64], *end;
+  PetscBool set;
+  long long value;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsGetString(NULL, NULL, option, text, sizeof(text), &set));
+  if (!set || !text[0]) PetscFunctionReturn(PETSC_SUCCESS);
+  errno = 0;
+  value = strtoll(text, &end, 10);
+  if (*end) PetscFunctionReturn(PETSC_SUCCESS); /* not an integer: PETSc's parser names it */
+  PetscCheck(errno != ERANGE && value >= (long long)min && value <= (long long)max, comm, PETSC_ERR_USER_INPUT, "option %s %s: expected an integer >= %" PetscInt_FMT " and <= %" PetscInt_FMT "%s", option, text, min, max,
+             max == PETSC_MAX_INT ? " (the largest count a PetscInt of this build holds)" : "");
+  PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -10,3 +10,8 @@
 PetscErrorCode ClothOptionsCheckReal(MPI_Comm comm, const char option[], PetscReal value, PetscReal min, PetscBool min_open, PetscReal max, const char unit[]);
 /* Errors unless min <= value <= max (max PETSC_MAX_INT: no upper bound), naming the option. */
 PetscErrorCode ClothOptionsCheckInt(MPI_Comm comm, const char option[], PetscInt value, PetscInt min, PetscInt max);
+/* Errors unless the text of an integer option, read as a 64-bit integer, is within [min, max]: PETSc's parser
+   of a PetscInt wraps values beyond 32 bits without a word (-steps 3000000000 became -1294967296, and
+   5000000000 a run of 705032704 steps). Call before PetscOptionsInt reads it. An option not given, or whose
+   text is not an integer, is left to PETSc's parser. Collective on comm. */
+PetscErrorCode ClothOptionsCheckIntText(MPI_Comm comm, const char option[], PetscInt min, PetscInt max);

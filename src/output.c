@@ -51,6 +51,7 @@ struct _n_ClothOutput {
   PetscReal        *times;
   PetscInt          nstatic;
   OutputStaticMesh *statics;
+  uint64_t          run_id; /* the run writing the series, named in a comment of the .xdmf (0: none) */
 };
 
 typedef char OutputGroupName[CLOTH_NAME_LEN];
@@ -265,6 +266,7 @@ static PetscErrorCode OutputWriteXdmf(ClothOutput out)
   PetscCall(PetscSNPrintf(tmp, sizeof(tmp), "%s.tmp", out->xdmfpath));
   PetscCall(PetscFOpen(out->comm, tmp, "w", &fp));
   PetscCall(PetscFPrintf(out->comm, fp, "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n<Xdmf Version=\"3.0\" xmlns:xi=\"http://www.w3.org/2001/XInclude\">\n  <Domain>\n"));
+  if (out->run_id) PetscCall(PetscFPrintf(out->comm, fp, "    <!-- run_id %016llx: the run that wrote this series (attribute run_id of its .h5 and checkpoints) -->\n", (unsigned long long)out->run_id));
   PetscCall(PetscFPrintf(out->comm, fp, "    <Grid Name=\"%s\" GridType=\"Collection\" CollectionType=\"Temporal\">\n", out->name));
   for (PetscInt i = 0; i < out->nframes; i++) PetscCall(OutputXdmfFrame(out, fp, i));
   PetscCall(PetscFPrintf(out->comm, fp, "    </Grid>\n  </Domain>\n</Xdmf>\n"));
@@ -325,6 +327,7 @@ PetscErrorCode ClothOutputCreate(MPI_Comm comm, const char dir[], const char nam
   PetscCall(PetscSNPrintf(o->xdmfpath, sizeof(o->xdmfpath), "%s/%s.xdmf", dir, name));
   o->nparticles = topology->nparticles;
   o->nquads     = topology->nquads;
+  o->run_id     = topology->run_id;
   PetscCall(ClothFileMakeDirectory(o->comm, dir));
   PetscCall(OutputSetUpFile(o, topology, restart_time));
   PetscCall(OutputWriteXdmf(o));

@@ -1,6 +1,5 @@
 /* Garment quality at the end of a run (see quality.h). */
 #include "quality.h"
-#include "sewing.h"
 #include "fileutil.h"
 
 /* Prints the n particles with the largest strain (natural Vec), with their piece and grid node. */
@@ -137,27 +136,20 @@ static PetscErrorCode GatherToZero(Vec natural, PetscReal **values)
 
 /* "fit_maps": per piece, in the scene's order, its particle count and the maximum and 95th percentile over its particles of the strain, the stress (N/m)
    and the contact pressure on the body (N/m^2; particles off the body count as 0). Rank 0 writes. */
-static PetscErrorCode WriteFitMaps(ClothRun run, FILE *fp)
+static PetscErrorCode WriteFitMaps(Cloth cloth, Vec field[3], FILE *fp)
 {
   static const char *const names[3] = {"strain", "stress_n_per_m", "pressure_pa"};
-  Cloth                    cloth;
   ClothModel               model;
   Scene                    scene;
-  Vec                      field[3];
   PetscReal               *values[3];
   PetscMPIInt              rank;
   MPI_Comm                 comm;
 
   PetscFunctionBeginUser;
-  PetscCall(ClothRunGetCloth(run, &cloth));
   PetscCall(ClothGetComm(cloth, &comm));
   PetscCall(ClothGetModel(cloth, &model));
   PetscCall(ClothGetScene(cloth, &scene));
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  PetscCall(ClothCreateStrainVec(cloth, &field[0]));
-  PetscCall(VecDuplicate(field[0], &field[1]));
-  PetscCall(VecDuplicate(field[0], &field[2]));
-  PetscCall(ClothRunComputeFitMaps(run, field[0], field[1], field[2]));
   for (PetscInt f = 0; f < 3; f++) PetscCall(GatherToZero(field[f], &values[f]));
   PetscCall(PetscFPrintf(comm, fp, "  \"fit_maps\": {\n"));
   if (rank == 0)
@@ -167,18 +159,12 @@ static PetscErrorCode WriteFitMaps(ClothRun run, FILE *fp)
       PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "}%s\n", p + 1 < model->npieces ? "," : ""));
     }
   PetscCall(PetscFPrintf(comm, fp, "  },\n"));
-  for (PetscInt f = 0; f < 3; f++) {
-    PetscCall(PetscFree(values[f]));
-    PetscCall(VecDestroy(&field[f]));
-  }
+  for (PetscInt f = 0; f < 3; f++) PetscCall(PetscFree(values[f]));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode ClothRunWriteQuality(ClothRun run, const char path[], PetscReal wall_seconds)
+PetscErrorCode ClothQualityWrite(Cloth cloth, ClothCollision collision, ClothSewing sewing, Vec fit_maps[3], uint64_t run_id, const char path[], PetscReal wall_seconds)
 {
-  Cloth            cloth;
-  ClothCollision   collision;
-  ClothSewing      sewing;
   ClothSewingPhase phase;
   ClothEnergy      energy;
   Vec              x, v;
@@ -190,12 +176,9 @@ PetscErrorCode ClothRunWriteQuality(ClothRun run, const char path[], PetscReal w
   char             tmp[CLOTH_PATH_LEN];
 
   PetscFunctionBeginUser;
-  PetscCall(ClothRunGetCloth(run, &cloth));
   PetscCall(ClothGetComm(cloth, &comm));
-  PetscCall(ClothRunGetCollision(run, &collision));
-  PetscCall(ClothRunGetSewing(run, &sewing));
-  PetscOptionsBegin(comm, NULL, "Garment quality (written at the end of a run with seams)", "ClothRunWriteQuality");
-  PetscCall(PetscOptionsInt("-quality_worst", "Print this many of the widest seam pairs and of the most strained particles, with their pieces and grid nodes", "ClothRunWriteQuality", worst, &worst, NULL));
+  PetscOptionsBegin(comm, NULL, "Garment quality (written at the end of a run with seams)", "ClothQualityWrite");
+  PetscCall(PetscOptionsInt("-quality_worst", "Print this many of the widest seam pairs and of the most strained particles, with their pieces and grid nodes", "ClothQualityWrite", worst, &worst, NULL));
   PetscOptionsEnd();
   if (sewing) PetscCall(ClothSewingGetStatus(sewing, &phase, &sewn, &total, &gap));
   if (sewing) PetscCall(ClothSewingViewWidest(sewing, worst));
@@ -209,7 +192,8 @@ PetscErrorCode ClothRunWriteQuality(ClothRun run, const char path[], PetscReal w
   PetscCall(PetscFPrintf(comm, fp, "{\n  \"max_seam_gap_m\": %.6e,\n  \"sewn_pairs\": %" PetscInt_FMT ",\n  \"seam_pairs\": %" PetscInt_FMT ",\n", (double)gap, sewn, total));
   PetscCall(PetscFPrintf(comm, fp, "  \"particles_inside_body\": %" PetscInt_FMT ",\n  \"max_link_strain\": %.6e,\n  \"kinetic_energy_j\": %.6e,\n", inside, (double)strain, (double)energy.kinetic));
   PetscCall(PetscFPrintf(comm, fp, "  \"wall_s\": %.3f,\n  \"ranks\": %d,\n", (double)wall_seconds, (int)size));
-  PetscCall(WriteFitMaps(run, fp));
+  PetscCall(PetscFPrintf(comm, fp, "  \"run_id\": \"%016llx\",\n", (unsigned long long)run_id)); /* a string: a JSON number is a double */
+  if (fit_maps) PetscCall(WriteFitMaps(cloth, fit_maps, fp));
   PetscCall(WriteSeamLinks(cloth, fp));
   PetscCall(PetscFPrintf(comm, fp, "}\n"));
   PetscCall(ClothFileCommitText(comm, fp, tmp, path));

@@ -145,6 +145,12 @@ PetscErrorCode ClothRunSetFromOptions(ClothRun run)
   PetscBool set_steps, set_tfinal, set_grid;
 
   PetscFunctionBeginUser;
+  /* counts beyond a PetscInt, which PETSc's parser would wrap */
+  PetscCall(ClothOptionsCheckIntText(run->comm, "-steps", 0, PETSC_MAX_INT));
+  PetscCall(ClothOptionsCheckIntText(run->comm, "-output_every", 0, PETSC_MAX_INT));
+  PetscCall(ClothOptionsCheckIntText(run->comm, "-checkpoint_every", 0, PETSC_MAX_INT));
+  PetscCall(ClothOptionsCheckIntText(run->comm, "-checkpoint_keep", 0, PETSC_MAX_INT));
+  PetscCall(ClothOptionsCheckIntText(run->comm, "-grid", 2, PETSC_MAX_INT));
   PetscOptionsBegin(run->comm, NULL, "Run (how the scene is simulated)", "ClothRun");
   PetscCall(PetscOptionsInt("-grid", "Particles per side of a scene made of one rectangular piece", "SceneSetGridSize", grid, &grid, &set_grid));
   PetscCall(PetscOptionsReal("-dt", "Time step, s (default on -restart: the checkpoint's)", "ClothRunSolve", run->dt, &run->dt, &run->dt_set));
@@ -401,7 +407,9 @@ static PetscErrorCode ClothRunClaimOutput(ClothRun run)
   PetscCall(ClothFileMakeDirectory(run->comm, run->output_dir));
   PetscCall(PetscSNPrintf(holder, sizeof(holder), "scene %s", run->scene->name));
   PetscCall(ClothFileLockDirectory(run->comm, run->output_dir, holder, &run->output_lock));
-  /* the longest name the run will open, checked now rather than at its first checkpoint, after the computing */
+  /* the longest names the run will open, checked before its first file (which fixes Open MPI's MPI-IO component,
+     h5util.h) rather than at its first checkpoint, after the computing */
+  if (run->restart[0]) PetscCall(ClothH5CheckPathLength(run->comm, run->restart));
   PetscCall(PetscSNPrintf(path, sizeof(path), "%s/.checkpoint_%06d.h5.tmp", run->output_dir, 0));
   PetscCall(ClothH5CheckPathLength(run->comm, path));
   PetscCall(PetscSNPrintf(path, sizeof(path), "%s/%s.h5", run->output_dir, run->scene->name));
@@ -711,20 +719,20 @@ PetscErrorCode ClothRunSolve(ClothRun run)
   if (run->sewing) { /* a garment: measure how well it is assembled */
     char path[CLOTH_PATH_LEN];
     PetscCall(PetscSNPrintf(path, sizeof(path), "%s/quality.json", run->output_dir));
-    PetscCall(ClothRunWriteQuality(run, path, WallTime() - start));
+    Vec fit_maps[3];
+
+    PetscCall(ClothCreateStrainVec(run->cloth, &fit_maps[0]));
+    PetscCall(VecDuplicate(fit_maps[0], &fit_maps[1]));
+    PetscCall(VecDuplicate(fit_maps[0], &fit_maps[2]));
+    PetscCall(ClothRunComputeFitMaps(run, fit_maps[0], fit_maps[1], fit_maps[2]));
+    PetscCall(ClothQualityWrite(run->cloth, run->collision, run->sewing, fit_maps, run->run_id, path, WallTime() - start));
+    for (PetscInt f = 0; f < 3; f++) PetscCall(VecDestroy(&fit_maps[f]));
   }
   PetscCall(ClothIntegratorViewSystem(run->integrator, PETSC_VIEWER_STDOUT_(run->comm)));
   PetscCall(ClothIntegratorGetPCFallbacks(run->integrator, &fallbacks));
   if (fallbacks) PetscCall(PetscPrintf(run->comm, "Preconditioner breakdowns: %" PetscInt_FMT " solves redone by the fallback solver (-fallback_ksp_type, -fallback_pc_type)\n", fallbacks));
   PetscCall(PetscPrintf(run->comm, "Done: %" PetscInt_FMT " steps (%" PetscInt_FMT " sub-steps), %" PetscInt_FMT " Krylov iterations, %.2f s wall. Results: %s/%s.xdmf (open in ParaView), checkpoint %s\n", run->step - first_step, run->substeps_total,
                         run->krylov_total, WallTime() - start, run->output_dir, run->scene->name, run->last_checkpoint));
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-PetscErrorCode ClothRunGetSewing(ClothRun run, ClothSewing *sewing)
-{
-  PetscFunctionBeginUser;
-  *sewing = run->sewing;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

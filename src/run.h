@@ -17,8 +17,6 @@ PetscErrorCode ClothRunSolve(ClothRun run);
 PetscErrorCode ClothRunGetCloth(ClothRun run, Cloth *cloth);
 /* The collision handler (borrowed; NULL when the scene has no bodies). */
 PetscErrorCode ClothRunGetCollision(ClothRun run, ClothCollision *collision);
-/* The sewing phases of a scene with seams (NULL without seams). */
-PetscErrorCode ClothRunGetSewing(ClothRun run, ClothSewing *sewing);
 /* The fit maps of the current state, natural order, one value per particle (Vecs like ClothCreateStrainVec's):
    strain (ClothComputeStrain), stress in N/m (ClothComputeStress) and the bodies' contact pressure in N/m^2
    from the last step's contact response (ClothComputeContactPressure; zero without bodies). Collective. */

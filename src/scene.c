@@ -48,8 +48,8 @@
    How it reads: rank 0 reads the bytes, broadcasts them, and every rank parses the same bytes with libyaml's
    document API, so every rank fails or succeeds alike. Each block has a table of its allowed keys
    (SceneTopKeys, SceneFabricKeys, ScenePieceKeys, SceneRunKeys) checked before any value is read, and a reader
-   that reads one key per line with a helper per kind of value (ReadReal, ReadRealList, ReadInt, ReadIntList,
-   ReadString, ReadChoice, ReadDirection). A new key is one entry in the table and one line in the reader; a new
+   that reads one key per line with a helper per kind of value (SceneKeyReal, SceneKeyRealList, SceneKeyInt, SceneKeyIntList,
+   SceneKeyString, SceneKeyChoice, SceneKeyDirection). A new key is one entry in the table and one line in the reader; a new
    block (bodies:, seams:) is one table and one reader function.
 
    Every error names the file, the line (libyaml's mark, 1-based), the key and the block, what was expected and
@@ -67,6 +67,7 @@
 #include <petscviewer.h>
 #include <yaml.h>
 #include "scene.h"
+#include "scene_reader.h"
 #include "fabric_presets.h"
 #include "fabric.h"
 #include "pattern.h"
@@ -74,7 +75,7 @@
 const char *const ClothShearModels[]       = {"link", "angle", "cell", "ClothShearModel", "CLOTH_SHEAR_", NULL};
 const char *const ClothBendModels[]        = {"link", "angle", "ClothBendModel", "CLOTH_BEND_", NULL};
 const char *const ClothMassDistributions[] = {"area", "uniform", "ClothMassDistribution", "CLOTH_MASS_", NULL};
-/* Written in the same PETSc enum-list style so that ReadChoice treats every list of names alike; the integrator
+/* Written in the same PETSc enum-list style so that SceneKeyChoice treats every list of names alike; the integrator
    module owns the actual type. */
 static const char *const SceneIntegrators[] = {"explicit", "symplectic", "implicit", "SceneIntegrator", "SCENE_INTEGRATOR_", NULL};
 
@@ -125,8 +126,6 @@ static const char *const SceneSeamSideKeys[]      = {"piece", "side", "from", "t
 static const char *const SceneSewingKeys[]        = {"pull_acceleration", "pull_radius", "sewn_stiffness", "tolerance", "max_time", "pull_friction", NULL};
 const char *const        ClothPieceSides[]        = {"bottom", "right", "top", "left", "ClothPieceSide", "CLOTH_SIDE_", NULL};
 static const char *const SceneSelfCollisionKeys[] = {"enabled", "thickness", "stiffness", "exclude_ring", "same_piece", NULL};
-/* YAML booleans, in the enum-list style of ReadChoice (index 0 = false, 1 = true). */
-static const char *const SceneBooleans[] = {"false", "true", "SceneBoolean", "SCENE_BOOLEAN_", NULL};
 /* The keys that only one type of body uses, per SceneBodyType (NULL-terminated). */
 static const char *const SceneBodyTypeKeys[][5] = {{"center", "radius", NULL}, {"point", "normal", NULL}, {"file", "scale", "rotation", "translation", NULL}};
 const char *const        SceneBodyTypes[]       = {"sphere", "plane", "mesh", "SceneBodyType", "SCENE_BODY_", NULL};
@@ -137,159 +136,49 @@ const char *const        SceneBodyTypes[]       = {"sphere", "plane", "mesh", "S
 /* The most particles a scene may have: the state vectors hold 3 coordinates per particle, indexed by PetscInt
    (32 bits in Debian's PETSc). Sizes are multiplied in 64 bits, so that a grid beyond it is named, not wrapped. */
 #define SCENE_MAX_PARTICLES ((PetscInt64)PETSC_MAX_INT / 3)
-#define SCENE_TEXT_LEN 1024    /* room for an expectation or a description in a message */
-#define SCENE_DESCRIBE_DEPTH 3 /* nested lists shown in messages (aliases may make cycles) */
 #define SCENE_FNV_OFFSET UINT64_C(0xcbf29ce484222325)
 #define SCENE_FNV_PRIME UINT64_C(0x100000001b3)
 
-/* 1-based line of a node, as editors count */
-#define SceneNodeLine(node) ((int)(node)->start_mark.line + 1)
 
-/* Admissible ranges of real values; each has the words used in messages. */
-typedef enum {
-  SCENE_REAL_ANY,
-  SCENE_REAL_POSITIVE,
-  SCENE_REAL_NONNEGATIVE,
-  SCENE_REAL_FRACTION /* [0, 1) */
-} SceneRealRange;
-static const char *const SceneRealRangeAdjective[] = {"", "positive ", "non-negative ", ""};
-static const char *const SceneRealRangeSuffix[]    = {"", "", "", " in [0, 1)"};
 
-typedef struct {
-  MPI_Comm         comm;
-  const char      *path;
-  yaml_document_t *doc;
-  char             block[2 * CLOTH_NAME_LEN + 16]; /* the block being read: "fabric 'net'", "piece 2", "run"; "" at the top level */
-} SceneReader;
 
-/* ------------------------------------------------------------------------------------------------------------ */
-/* Messages                                                                                                     */
+/* Densest sheet: 1 cm of steel, 78 kg/m^2 (fabrics: below 2). Stiffest sheet: 5 mm of steel, E t = 1e9 N/m
+   (fabrics: below 1e5 N/m). Friction coefficients of fabrics: below 2. */
+static const SceneRealBound SceneRealBounds[] = {
+  {"",        "density",             100,  "a sheet denser than 1 cm of steel, 78 kg/m^2"                       },
+  {"",        "W",                   1e4,  "100 kg/m^2, a sheet denser than 1 cm of steel"                      },
+  {"",        "stretch",             1e9,  "stiffer than a 5 mm steel plate, E t = 1e9 N/m"                     },
+  {"",        "stretch_stiff",       1e9,  "stiffer than a 5 mm steel plate, E t = 1e9 N/m"                     },
+  {"",        "shear",               1e9,  "stiffer than a 5 mm steel plate, E t = 1e9 N/m"                     },
+  {"",        "bend",                1e9,  "as a link stiffness, stiffer than a 5 mm steel plate"               },
+  {"",        "damping",             1e6,  "a relaxation time below 1 microsecond"                              },
+  {"",        "repulsion_stiffness", 1e6,  "a million times the stretch stiffness"                              },
+  {"",        "static",              10,   "friction coefficients of fabrics are below 2"                       },
+  {"",        "kinetic",             10,   "friction coefficients of fabrics are below 2"                       },
+  {"",        "size",                1e3,  "a piece a kilometre across: a unit mistake"                         },
+  {"",        "radius",              1e3,  "a kilometre: a unit mistake"                                        },
+  {"body",    "thickness",           1,    "a contact shell a metre thick"                                      },
+  {"",        "dt",                  10,   "a cloth time step of more than 10 s"                                },
+  {"",        "t_final",             1e6,  "more than 11 days of simulated time"                                },
+  {"",        "gravity",             1e3,  "100 g"                                                              },
+  {"",        "center",              1e6,  "1000 km, the bound of mesh coordinates"                             },
+  {"",        "point",               1e6,  "1000 km, the bound of mesh coordinates"                             },
+  {"",        "origin",              1e6,  "1000 km, the bound of mesh coordinates"                             },
+  {"",        "translation",         1e6,  "1000 km, the bound of mesh coordinates"                             },
+  {"",        "axis_point",          1e6,  "1000 km, the bound of mesh coordinates"                             },
+  {"",        "apex",                1e6,  "1000 km, the bound of mesh coordinates"                             },
+  {"",        "scale",               1e3,  "a mesh scaled beyond metres from millimetres"                       },
+  {"self",    "stiffness",           1e9,  "stiffer than a 5 mm steel plate, E t = 1e9 N/m"                     },
+  {"sewing",  "pull_acceleration",   1e4,  "a pull of 1000 g"                                                   },
+  {"sewing",  "pull_radius",         10,   "a pull reaching 10 m"                                               },
+  {"sewing",  "sewn_stiffness",      1e9,  "stiffer than a 5 mm steel plate, E t = 1e9 N/m"                     },
+  {"sewing",  "tolerance",           1,    "pairs a metre apart counted as sewn"                                },
+  {"sewing",  "max_time",            1e6,  "more than 11 days of simulated time"                                },
+  {"sewing",  "pull_friction",       10,   "friction coefficients of fabrics are below 2"                       },
+  {NULL,      NULL,                  0,    NULL                                                                 }
+};
 
-/* Appends a short rendering of a node to buf: plain scalars as written, quoted ones in quotes, lists in brackets. */
-static PetscErrorCode SceneDescribeAppend(SceneReader *r, yaml_node_t *node, int depth, char buf[], size_t len)
-{
-  PetscFunctionBeginUser;
-  if (!node) PetscFunctionReturn(PETSC_SUCCESS);
-  if (node->type == YAML_SCALAR_NODE) {
-    PetscBool plain = node->data.scalar.style == YAML_PLAIN_SCALAR_STYLE ? PETSC_TRUE : PETSC_FALSE;
-    if (!plain) PetscCall(PetscStrlcat(buf, "\"", len));
-    PetscCall(PetscStrlcat(buf, (const char *)node->data.scalar.value, len));
-    if (!plain) PetscCall(PetscStrlcat(buf, "\"", len));
-  } else if (node->type == YAML_SEQUENCE_NODE && depth < SCENE_DESCRIBE_DEPTH) {
-    PetscCall(PetscStrlcat(buf, "[", len));
-    for (yaml_node_item_t *item = node->data.sequence.items.start; item < node->data.sequence.items.top; item++) {
-      if (item > node->data.sequence.items.start) PetscCall(PetscStrlcat(buf, ", ", len));
-      PetscCall(SceneDescribeAppend(r, yaml_document_get_node(r->doc, *item), depth + 1, buf, len));
-    }
-    PetscCall(PetscStrlcat(buf, "]", len));
-  } else {
-    PetscCall(PetscStrlcat(buf, node->type == YAML_MAPPING_NODE ? "{...}" : "[...]", len));
-  }
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
 
-/* What a node holds, for "got ...": 'text', "quoted text" (a quoted string), [a, b], a map, an empty map, nothing. */
-static PetscErrorCode SceneDescribeNode(SceneReader *r, yaml_node_t *node, char buf[], size_t len)
-{
-  PetscFunctionBeginUser;
-  buf[0] = 0;
-  if (node->type == YAML_MAPPING_NODE)
-    PetscCall(PetscStrncpy(buf, node->data.mapping.pairs.top > node->data.mapping.pairs.start ? "a map" : "an empty map", len));
-  else if (node->type == YAML_SEQUENCE_NODE)
-    PetscCall(SceneDescribeAppend(r, node, 0, buf, len));
-  else if (node->data.scalar.style != YAML_PLAIN_SCALAR_STYLE) {
-    PetscCall(SceneDescribeAppend(r, node, 0, buf, len));
-    PetscCall(PetscStrlcat(buf, " (a quoted string)", len));
-  } else if (node->data.scalar.length == 0)
-    PetscCall(PetscStrncpy(buf, "nothing", len));
-  else
-    PetscCall(PetscSNPrintf(buf, len, "'%s'", (const char *)node->data.scalar.value));
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-/* Joins n names (n < 0: up to the NULL) into "a, b, c". */
-static PetscErrorCode SceneJoinNames(const char *const names[], PetscInt n, char buf[], size_t len)
-{
-  PetscFunctionBeginUser;
-  buf[0] = 0;
-  for (PetscInt i = 0; (n < 0 || i < n) && names[i]; i++) {
-    if (i) PetscCall(PetscStrlcat(buf, ", ", len));
-    PetscCall(PetscStrlcat(buf, names[i], len));
-  }
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-/* Where in the file: "key 'K' in fabric 'net'", "key 'K'", "fabric 'net'" (key NULL) or "the top level". */
-static PetscErrorCode SceneWhere(SceneReader *r, const char key[], char buf[], size_t len)
-{
-  PetscFunctionBeginUser;
-  if (key && r->block[0])
-    PetscCall(PetscSNPrintf(buf, len, "key '%s' in %s", key, r->block));
-  else if (key)
-    PetscCall(PetscSNPrintf(buf, len, "key '%s'", key));
-  else
-    PetscCall(PetscStrncpy(buf, r->block[0] ? r->block : "the top level", len));
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-/* Fails with "scene F, line L: key 'K' in B: expected <fmt...>, got <value>" (key NULL: the block itself). */
-static PetscErrorCode SceneFailValue(SceneReader *r, yaml_node_t *value, const char key[], const char fmt[], ...) PETSC_ATTRIBUTE_FORMAT(4, 5);
-static PetscErrorCode SceneFailValue(SceneReader *r, yaml_node_t *value, const char key[], const char fmt[], ...)
-{
-  char    expected[SCENE_TEXT_LEN], got[SCENE_TEXT_LEN], where[SCENE_TEXT_LEN];
-  va_list args;
-
-  PetscFunctionBeginUser;
-  va_start(args, fmt);
-  vsnprintf(expected, sizeof(expected), fmt, args);
-  va_end(args);
-  PetscCall(SceneDescribeNode(r, value, got, sizeof(got)));
-  PetscCall(SceneWhere(r, key, where, sizeof(where)));
-  SETERRQ(r->comm, PETSC_ERR_USER_INPUT, "scene %s, line %d: %s: expected %s, got %s", r->path, SceneNodeLine(value), where, expected, got);
-}
-
-/* Fails with "scene F, line L: key 'K' in B is missing: expected <fmt...>", L being the line of the block. */
-static PetscErrorCode SceneFailMissing(SceneReader *r, yaml_node_t *map, const char key[], const char fmt[], ...) PETSC_ATTRIBUTE_FORMAT(4, 5);
-static PetscErrorCode SceneFailMissing(SceneReader *r, yaml_node_t *map, const char key[], const char fmt[], ...)
-{
-  char    expected[SCENE_TEXT_LEN], where[SCENE_TEXT_LEN];
-  va_list args;
-
-  PetscFunctionBeginUser;
-  va_start(args, fmt);
-  vsnprintf(expected, sizeof(expected), fmt, args);
-  va_end(args);
-  PetscCall(SceneWhere(r, key, where, sizeof(where)));
-  SETERRQ(r->comm, PETSC_ERR_USER_INPUT, "scene %s, line %d: %s is missing: expected %s", r->path, SceneNodeLine(map), where, expected);
-}
-
-/* "a positive number (kg/m^2)" (count 0) or "a list of 3 numbers (m/s^2)" */
-static PetscErrorCode SceneExpectReal(PetscInt count, SceneRealRange range, const char unit[], char buf[], size_t len)
-{
-  char units[CLOTH_NAME_LEN] = "";
-
-  PetscFunctionBeginUser;
-  if (unit) PetscCall(PetscSNPrintf(units, sizeof(units), " (%s)", unit));
-  if (count)
-    PetscCall(PetscSNPrintf(buf, len, "a list of %" PetscInt_FMT " %snumbers%s%s", count, SceneRealRangeAdjective[range], SceneRealRangeSuffix[range], units));
-  else
-    PetscCall(PetscSNPrintf(buf, len, "a %snumber%s%s", SceneRealRangeAdjective[range], SceneRealRangeSuffix[range], units));
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-/* "an integer >= 2" (count 0) or "a list of 2 integers >= 2"; min PETSC_MIN_INT: no bound */
-static PetscErrorCode SceneExpectInt(PetscInt count, PetscInt min, char buf[], size_t len)
-{
-  char bound[CLOTH_NAME_LEN] = "";
-
-  PetscFunctionBeginUser;
-  if (min > PETSC_MIN_INT) PetscCall(PetscSNPrintf(bound, sizeof(bound), " >= %" PetscInt_FMT, min));
-  if (count)
-    PetscCall(PetscSNPrintf(buf, len, "a list of %" PetscInt_FMT " integers%s", count, bound));
-  else
-    PetscCall(PetscSNPrintf(buf, len, "an integer%s", bound));
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
 
 /* The particles of all pieces, counted in 64 bits. */
 static PetscInt64 SceneCountParticles(Scene scene)
@@ -341,316 +230,6 @@ PetscErrorCode SceneGetLargestSpacing(Scene scene, PetscReal *spacing)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* ------------------------------------------------------------------------------------------------------------ */
-/* Nodes                                                                                                        */
-
-/* The value of key in map, or NULL when absent. */
-static PetscErrorCode SceneGetValue(SceneReader *r, yaml_node_t *map, const char key[], yaml_node_t **value)
-{
-  PetscFunctionBeginUser;
-  *value = NULL;
-  for (yaml_node_pair_t *pair = map->data.mapping.pairs.start; pair < map->data.mapping.pairs.top; pair++) {
-    yaml_node_t *k = yaml_document_get_node(r->doc, pair->key);
-    PetscBool    match;
-
-    PetscCall(PetscStrcmp((const char *)k->data.scalar.value, key, &match)); /* keys were checked to be scalars */
-    if (match) {
-      *value = yaml_document_get_node(r->doc, pair->value);
-      break;
-    }
-  }
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-/* The value of key, or NULL when absent and not required; a missing required key is an error. */
-static PetscErrorCode SceneGetValueChecked(SceneReader *r, yaml_node_t *map, const char key[], PetscBool required, const char expected[], yaml_node_t **value)
-{
-  PetscFunctionBeginUser;
-  PetscCall(SceneGetValue(r, map, key, value));
-  if (!*value && required) PetscCall(SceneFailMissing(r, map, key, "%s", expected));
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-static PetscErrorCode SceneHasKey(SceneReader *r, yaml_node_t *map, const char key[], PetscBool *has)
-{
-  yaml_node_t *value;
-
-  PetscFunctionBeginUser;
-  PetscCall(SceneGetValue(r, map, key, &value));
-  *has = value ? PETSC_TRUE : PETSC_FALSE;
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-/* Every key of map is a scalar, appears once and (keys not NULL) is one of keys. */
-static PetscErrorCode SceneCheckKeys(SceneReader *r, yaml_node_t *map, const char *const keys[])
-{
-  char allowed[SCENE_TEXT_LEN] = "", where[SCENE_TEXT_LEN];
-
-  PetscFunctionBeginUser;
-  if (keys) PetscCall(SceneJoinNames(keys, -1, allowed, sizeof(allowed)));
-  for (yaml_node_pair_t *pair = map->data.mapping.pairs.start; pair < map->data.mapping.pairs.top; pair++) {
-    yaml_node_t *k = yaml_document_get_node(r->doc, pair->key);
-    const char  *name;
-    PetscBool    known = keys ? PETSC_FALSE : PETSC_TRUE;
-
-    if (k->type != YAML_SCALAR_NODE) PetscCall(SceneFailValue(r, k, NULL, "a name as key, one of %s", keys ? allowed : "the names"));
-    name = (const char *)k->data.scalar.value;
-    PetscCall(SceneWhere(r, name, where, sizeof(where)));
-    for (PetscInt i = 0; keys && keys[i] && !known; i++) PetscCall(PetscStrcmp(name, keys[i], &known));
-    PetscCheck(known, r->comm, PETSC_ERR_USER_INPUT, "scene %s, line %d: %s is not allowed: expected one of %s", r->path, SceneNodeLine(k), where, allowed);
-    for (yaml_node_pair_t *prev = map->data.mapping.pairs.start; prev < pair; prev++) {
-      yaml_node_t *p = yaml_document_get_node(r->doc, prev->key);
-      PetscBool    same;
-
-      PetscCall(PetscStrcmp(name, (const char *)p->data.scalar.value, &same));
-      PetscCheck(!same, r->comm, PETSC_ERR_USER_INPUT, "scene %s, line %d: %s is given twice (lines %d and %d): expected each key once", r->path, SceneNodeLine(k), where, SceneNodeLine(p), SceneNodeLine(k));
-    }
-  }
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-/* node (the value of key; key NULL: a block) must be a map whose keys are among keys (NULL: any unique names,
-   described by what). */
-static PetscErrorCode SceneExpectMap(SceneReader *r, yaml_node_t *node, const char key[], const char *const keys[], const char what[])
-{
-  char allowed[SCENE_TEXT_LEN];
-
-  PetscFunctionBeginUser;
-  if (node->type != YAML_MAPPING_NODE) {
-    if (keys) PetscCall(SceneJoinNames(keys, -1, allowed, sizeof(allowed)));
-    PetscCall(SceneFailValue(r, node, key, "%s%s", keys ? "a map with keys among " : what, keys ? allowed : ""));
-  }
-  PetscCall(SceneCheckKeys(r, node, keys));
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-/* node must be a list of count items (count < 0: any number); returns its items. */
-static PetscErrorCode SceneGetItems(SceneReader *r, yaml_node_t *node, const char key[], PetscInt count, const char expected[], yaml_node_item_t **items, PetscInt *n)
-{
-  PetscFunctionBeginUser;
-  if (node->type != YAML_SEQUENCE_NODE) PetscCall(SceneFailValue(r, node, key, "%s", expected));
-  *items = node->data.sequence.items.start;
-  *n     = (PetscInt)(node->data.sequence.items.top - node->data.sequence.items.start);
-  if (count >= 0 && *n != count) PetscCall(SceneFailValue(r, node, key, "%s", expected));
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-/* A plain scalar (numbers must not be quoted). On failure the message shows errnode (the list holding node). */
-static PetscErrorCode SceneGetNumberText(SceneReader *r, yaml_node_t *node, yaml_node_t *errnode, const char key[], const char expected[], const char **text)
-{
-  PetscFunctionBeginUser;
-  if (node->type != YAML_SCALAR_NODE || node->data.scalar.style != YAML_PLAIN_SCALAR_STYLE || node->data.scalar.length == 0) PetscCall(SceneFailValue(r, errnode, key, "%s", expected));
-  *text = (const char *)node->data.scalar.value;
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-static PetscErrorCode SceneParseReal(SceneReader *r, yaml_node_t *node, yaml_node_t *errnode, const char key[], SceneRealRange range, const char expected[], PetscReal *value)
-{
-  const char *text = NULL;
-  char       *end;
-  double      x;
-  PetscBool   ok;
-
-  PetscFunctionBeginUser;
-  PetscCall(SceneGetNumberText(r, node, errnode, key, expected, &text));
-  errno = 0;
-  x     = strtod(text, &end);
-  ok    = (*end == 0 && errno == 0 && isfinite(x)) ? PETSC_TRUE : PETSC_FALSE;
-  if (range == SCENE_REAL_POSITIVE) ok = (ok && x > 0) ? PETSC_TRUE : PETSC_FALSE;
-  if (range == SCENE_REAL_NONNEGATIVE) ok = (ok && x >= 0) ? PETSC_TRUE : PETSC_FALSE;
-  if (range == SCENE_REAL_FRACTION) ok = (ok && x >= 0 && x < 1) ? PETSC_TRUE : PETSC_FALSE;
-  if (!ok) PetscCall(SceneFailValue(r, errnode, key, "%s", expected));
-  *value = (PetscReal)x;
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-static PetscErrorCode SceneParseInt(SceneReader *r, yaml_node_t *node, yaml_node_t *errnode, const char key[], PetscInt min, const char expected[], PetscInt *value)
-{
-  const char *text = NULL;
-  char       *end;
-  long long   x;
-
-  PetscFunctionBeginUser;
-  PetscCall(SceneGetNumberText(r, node, errnode, key, expected, &text));
-  errno = 0;
-  x     = strtoll(text, &end, 10);
-  if (*end || errno || x < min || x > PETSC_MAX_INT) PetscCall(SceneFailValue(r, errnode, key, "%s", expected));
-  *value = (PetscInt)x;
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-static PetscErrorCode SceneParseRealList(SceneReader *r, yaml_node_t *node, const char key[], PetscInt count, SceneRealRange range, const char expected[], PetscReal values[])
-{
-  yaml_node_item_t *items = NULL;
-  PetscInt          n;
-
-  PetscFunctionBeginUser;
-  PetscCall(SceneGetItems(r, node, key, count, expected, &items, &n));
-  for (PetscInt i = 0; i < n; i++) PetscCall(SceneParseReal(r, yaml_document_get_node(r->doc, items[i]), node, key, range, expected, &values[i]));
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-static PetscErrorCode SceneParseIntList(SceneReader *r, yaml_node_t *node, const char key[], PetscInt count, PetscInt min, const char expected[], PetscInt values[])
-{
-  yaml_node_item_t *items = NULL;
-  PetscInt          n;
-
-  PetscFunctionBeginUser;
-  PetscCall(SceneGetItems(r, node, key, count, expected, &items, &n));
-  for (PetscInt i = 0; i < n; i++) PetscCall(SceneParseInt(r, yaml_document_get_node(r->doc, items[i]), node, key, min, expected, &values[i]));
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-/* ------------------------------------------------------------------------------------------------------------ */
-/* Keys: each reads map[key] into its output, which keeps its default when the key is absent and not required.  */
-
-static PetscErrorCode ReadReal(SceneReader *r, yaml_node_t *map, const char key[], PetscBool required, SceneRealRange range, const char unit[], PetscReal *value)
-{
-  char         expected[SCENE_TEXT_LEN];
-  yaml_node_t *node;
-
-  PetscFunctionBeginUser;
-  PetscCall(SceneExpectReal(0, range, unit, expected, sizeof(expected)));
-  PetscCall(SceneGetValueChecked(r, map, key, required, expected, &node));
-  if (node) PetscCall(SceneParseReal(r, node, node, key, range, expected, value));
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-static PetscErrorCode ReadRealList(SceneReader *r, yaml_node_t *map, const char key[], PetscBool required, PetscInt count, SceneRealRange range, const char unit[], PetscReal values[])
-{
-  char         expected[SCENE_TEXT_LEN];
-  yaml_node_t *node;
-
-  PetscFunctionBeginUser;
-  PetscCall(SceneExpectReal(count, range, unit, expected, sizeof(expected)));
-  PetscCall(SceneGetValueChecked(r, map, key, required, expected, &node));
-  if (node) PetscCall(SceneParseRealList(r, node, key, count, range, expected, values));
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-/* An optional direction: 3 numbers, not all zero, normalised on return. */
-static PetscErrorCode ReadDirection(SceneReader *r, yaml_node_t *map, const char key[], PetscReal dir[3])
-{
-  const char   expected[] = "a nonzero direction (a list of 3 numbers)";
-  yaml_node_t *node;
-  PetscReal    norm;
-
-  PetscFunctionBeginUser;
-  PetscCall(SceneGetValue(r, map, key, &node));
-  if (!node) PetscFunctionReturn(PETSC_SUCCESS);
-  PetscCall(SceneParseRealList(r, node, key, 3, SCENE_REAL_ANY, expected, dir));
-  norm = PetscSqrtReal(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
-  if (!(norm > 0) || PetscIsInfOrNanReal(norm)) PetscCall(SceneFailValue(r, node, key, "%s", expected));
-  for (PetscInt d = 0; d < 3; d++) dir[d] /= norm;
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-static PetscErrorCode ReadInt(SceneReader *r, yaml_node_t *map, const char key[], PetscBool required, PetscInt min, PetscInt *value)
-{
-  char         expected[SCENE_TEXT_LEN];
-  yaml_node_t *node;
-
-  PetscFunctionBeginUser;
-  PetscCall(SceneExpectInt(0, min, expected, sizeof(expected)));
-  PetscCall(SceneGetValueChecked(r, map, key, required, expected, &node));
-  if (node) PetscCall(SceneParseInt(r, node, node, key, min, expected, value));
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-static PetscErrorCode ReadIntList(SceneReader *r, yaml_node_t *map, const char key[], PetscBool required, PetscInt count, PetscInt min, PetscInt values[])
-{
-  char         expected[SCENE_TEXT_LEN];
-  yaml_node_t *node;
-
-  PetscFunctionBeginUser;
-  PetscCall(SceneExpectInt(count, min, expected, sizeof(expected)));
-  PetscCall(SceneGetValueChecked(r, map, key, required, expected, &node));
-  if (node) PetscCall(SceneParseIntList(r, node, key, count, min, expected, values));
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-/* A name: a non-empty scalar shorter than len; returns its node (NULL when absent) for later messages. */
-static PetscErrorCode ReadString(SceneReader *r, yaml_node_t *map, const char key[], PetscBool required, char buf[], size_t len, yaml_node_t **where)
-{
-  char         expected[SCENE_TEXT_LEN];
-  yaml_node_t *node;
-
-  PetscFunctionBeginUser;
-  PetscCall(PetscSNPrintf(expected, sizeof(expected), "a name (text of 1 to %d characters)", (int)len - 1));
-  PetscCall(SceneGetValueChecked(r, map, key, required, expected, &node));
-  if (where) *where = node;
-  if (!node) PetscFunctionReturn(PETSC_SUCCESS);
-  if (node->type != YAML_SCALAR_NODE || node->data.scalar.length == 0 || node->data.scalar.length >= len) PetscCall(SceneFailValue(r, node, key, "%s", expected));
-  PetscCall(PetscStrncpy(buf, (const char *)node->data.scalar.value, len));
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-/* Names become file names, HDF5 groups and XDMF attributes: letters, digits and _ . + - only, not starting
-   with '.', so that a name can neither leave the output directory ('/'), hide a file, nor break the XML ("<&>). */
-static PetscBool SceneNameIsSafe(const char name[])
-{
-  if (!name[0] || name[0] == '.') return PETSC_FALSE;
-  for (const char *c = name; *c; c++)
-    if (!isalnum((unsigned char)*c) && !strchr("_.+-", *c)) return PETSC_FALSE;
-  return PETSC_TRUE;
-}
-
-#define SCENE_NAME_RULE "letters, digits and _ . + - only, not starting with '.'"
-
-/* A name that goes into the output files (SceneNameIsSafe); returns its node like ReadString. */
-static PetscErrorCode ReadName(SceneReader *r, yaml_node_t *map, const char key[], PetscBool required, char buf[], size_t len, yaml_node_t **where)
-{
-  yaml_node_t *node;
-
-  PetscFunctionBeginUser;
-  PetscCall(ReadString(r, map, key, required, buf, len, &node));
-  if (where) *where = node;
-  if (node && !SceneNameIsSafe(buf)) PetscCall(SceneFailValue(r, node, key, "a name of 1 to %d characters: " SCENE_NAME_RULE, (int)len - 1));
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-/* Errors when name is also the name of one of the n earlier items of an array of structs whose first member
-   is their name (pieces, bodies): two bodies of one name would write one mesh over the other. */
-static PetscErrorCode SceneCheckNameUnique(SceneReader *r, yaml_node_t *node, const char kind[], const char name[], const void *items, size_t stride, PetscInt n)
-{
-  PetscFunctionBeginUser;
-  for (PetscInt i = 0; i < n; i++) {
-    PetscBool same;
-
-    PetscCall(PetscStrcmp(name, (const char *)items + (size_t)i * stride, &same));
-    if (same) PetscCall(SceneFailValue(r, node, "name", "a name not used by another %s (%s %" PetscInt_FMT " is also called '%s')", kind, kind, i + 1, name));
-  }
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-/* One of the names of a PETSc enum-style list (names..., type name, prefix, NULL); returns its index. */
-static PetscErrorCode ReadChoice(SceneReader *r, yaml_node_t *map, const char key[], PetscBool required, const char *const choices[], PetscInt *index)
-{
-  char         expected[SCENE_TEXT_LEN], names[SCENE_TEXT_LEN];
-  yaml_node_t *node;
-  PetscInt     n = 0;
-
-  PetscFunctionBeginUser;
-  while (choices[n]) n++;
-  n -= 2; /* the type name and the prefix */
-  PetscCall(SceneJoinNames(choices, n, names, sizeof(names)));
-  PetscCall(PetscSNPrintf(expected, sizeof(expected), "one of %s", names));
-  PetscCall(SceneGetValueChecked(r, map, key, required, expected, &node));
-  if (!node) PetscFunctionReturn(PETSC_SUCCESS);
-  if (node->type == YAML_SCALAR_NODE) {
-    for (PetscInt i = 0; i < n; i++) {
-      PetscBool match;
-
-      PetscCall(PetscStrcmp((const char *)node->data.scalar.value, choices[i], &match));
-      if (match) {
-        *index = i;
-        PetscFunctionReturn(PETSC_SUCCESS);
-      }
-    }
-  }
-  PetscCall(SceneFailValue(r, node, key, "%s", expected));
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
 
 /* ------------------------------------------------------------------------------------------------------------ */
 /* Blocks                                                                                                       */
@@ -671,10 +250,10 @@ static PetscErrorCode ReadWarpWeft(SceneReader *r, yaml_node_t *map, const char 
     PetscCall(SceneExpectReal(0, range, unit, expected, sizeof(expected)));
     PetscCall(SceneFailMissing(r, map, key, "%s, or both %s and %s", expected, key_warp, key_weft));
   }
-  PetscCall(ReadReal(r, map, key, PETSC_FALSE, range, unit, warp));
+  PetscCall(SceneKeyReal(r, map, key, PETSC_FALSE, range, unit, warp));
   if (has) *weft = *warp; /* otherwise both keep their defaults (a preset's may differ) */
-  PetscCall(ReadReal(r, map, key_warp, PETSC_FALSE, range, unit, warp));
-  PetscCall(ReadReal(r, map, key_weft, PETSC_FALSE, range, unit, weft));
+  PetscCall(SceneKeyReal(r, map, key_warp, PETSC_FALSE, range, unit, warp));
+  PetscCall(SceneKeyReal(r, map, key_weft, PETSC_FALSE, range, unit, weft));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -686,7 +265,7 @@ static PetscErrorCode ReadFabricPreset(SceneReader *r, yaml_node_t *map, SceneFa
   PetscBool    found = PETSC_FALSE;
 
   PetscFunctionBeginUser;
-  PetscCall(ReadString(r, map, "preset", PETSC_FALSE, fabric->preset, sizeof(fabric->preset), &node));
+  PetscCall(SceneKeyString(r, map, "preset", PETSC_FALSE, fabric->preset, sizeof(fabric->preset), &node));
   if (!node) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(FabricPresetApply(fabric->preset, fabric, &found));
   if (!found) {
@@ -708,17 +287,17 @@ static PetscErrorCode ReadFabricKES(SceneReader *r, yaml_node_t *map, SceneFabri
   if (!node) PetscFunctionReturn(PETSC_SUCCESS);
   if (fabric->preset[0]) PetscCall(SceneFailValue(r, node, "kes", "no kes block together with a preset (give one of them)"));
   PetscCall(SceneExpectMap(r, node, "kes", SceneKESKeys, NULL));
-  PetscCall(ReadReal(r, node, "W", PETSC_TRUE, SCENE_REAL_POSITIVE, "mg/cm^2", &kes.weight));
-  PetscCall(ReadReal(r, node, "B_warp", PETSC_TRUE, SCENE_REAL_NONNEGATIVE, "gf cm^2/cm", &kes.bend_warp));
-  PetscCall(ReadReal(r, node, "B_weft", PETSC_TRUE, SCENE_REAL_NONNEGATIVE, "gf cm^2/cm", &kes.bend_weft));
-  PetscCall(ReadReal(r, node, "G", PETSC_TRUE, SCENE_REAL_NONNEGATIVE, "gf/cm/degree", &kes.shear));
-  PetscCall(ReadReal(r, node, "EMT_warp", PETSC_TRUE, SCENE_REAL_POSITIVE, "%", &kes.emt_warp));
-  PetscCall(ReadReal(r, node, "EMT_weft", PETSC_TRUE, SCENE_REAL_POSITIVE, "%", &kes.emt_weft));
-  PetscCall(ReadReal(r, node, "LT_warp", PETSC_FALSE, SCENE_REAL_POSITIVE, NULL, &kes.lt_warp));
-  PetscCall(ReadReal(r, node, "LT_weft", PETSC_FALSE, SCENE_REAL_POSITIVE, NULL, &kes.lt_weft));
-  PetscCall(ReadReal(r, node, "2HB_warp", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "gf cm/cm", &kes.hysteresis_warp));
-  PetscCall(ReadReal(r, node, "2HB_weft", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "gf cm/cm", &kes.hysteresis_weft));
-  PetscCall(ReadReal(r, node, "2HG", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "gf/cm", &kes.shear_hysteresis));
+  PetscCall(SceneKeyReal(r, node, "W", PETSC_TRUE, SCENE_REAL_POSITIVE, "mg/cm^2", &kes.weight));
+  PetscCall(SceneKeyReal(r, node, "B_warp", PETSC_TRUE, SCENE_REAL_NONNEGATIVE, "gf cm^2/cm", &kes.bend_warp));
+  PetscCall(SceneKeyReal(r, node, "B_weft", PETSC_TRUE, SCENE_REAL_NONNEGATIVE, "gf cm^2/cm", &kes.bend_weft));
+  PetscCall(SceneKeyReal(r, node, "G", PETSC_TRUE, SCENE_REAL_NONNEGATIVE, "gf/cm/degree", &kes.shear));
+  PetscCall(SceneKeyReal(r, node, "EMT_warp", PETSC_TRUE, SCENE_REAL_POSITIVE, "%", &kes.emt_warp));
+  PetscCall(SceneKeyReal(r, node, "EMT_weft", PETSC_TRUE, SCENE_REAL_POSITIVE, "%", &kes.emt_weft));
+  PetscCall(SceneKeyReal(r, node, "LT_warp", PETSC_FALSE, SCENE_REAL_POSITIVE, NULL, &kes.lt_warp));
+  PetscCall(SceneKeyReal(r, node, "LT_weft", PETSC_FALSE, SCENE_REAL_POSITIVE, NULL, &kes.lt_weft));
+  PetscCall(SceneKeyReal(r, node, "2HB_warp", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "gf cm/cm", &kes.hysteresis_warp));
+  PetscCall(SceneKeyReal(r, node, "2HB_weft", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "gf cm/cm", &kes.hysteresis_weft));
+  PetscCall(SceneKeyReal(r, node, "2HG", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "gf/cm", &kes.shear_hysteresis));
   if ((kes.lt_warp > 0) != (kes.lt_weft > 0) || (kes.lt_warp > 0 && (kes.lt_warp <= 0.5 || kes.lt_warp >= 1.5 || kes.lt_weft <= 0.5 || kes.lt_weft >= 1.5)))
     PetscCall(SceneFailValue(r, node, "kes", "LT_warp and LT_weft both given or both absent, each in (0.5, 1.5) (a biphasic curve with its knee at EMT/2)"));
   PetscCall(FabricSetFromKES(&kes, fabric));
@@ -759,7 +338,7 @@ static PetscErrorCode ReadBendHysteresis(SceneReader *r, yaml_node_t *map, Scene
     PetscCall(SceneGetValue(r, map, "bend_hysteresis_ratio", &node));
     PetscCall(SceneFailValue(r, node, "bend_hysteresis_ratio", "no bend_hysteresis_ratio beside bend_hysteresis[_warp|_weft] (give one of them)"));
   }
-  PetscCall(ReadReal(r, map, "bend_hysteresis_ratio", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "2HB/B, 1/m", &ratio));
+  PetscCall(SceneKeyReal(r, map, "bend_hysteresis_ratio", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "2HB/B, 1/m", &ratio));
   fabric->bend_hysteresis_warp = 0.5 * ratio * fabric->bend_warp;
   fabric->bend_hysteresis_weft = 0.5 * ratio * fabric->bend_weft;
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -774,7 +353,7 @@ static PetscErrorCode ReadShearHysteresis(SceneReader *r, yaml_node_t *map, Pets
   PetscReal ratio = 0;
 
   PetscFunctionBeginUser;
-  PetscCall(ReadReal(r, map, "shear_hysteresis", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "friction shear force per unit width HG, N/m", &fabric->shear_hysteresis));
+  PetscCall(SceneKeyReal(r, map, "shear_hysteresis", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "friction shear force per unit width HG, N/m", &fabric->shear_hysteresis));
   PetscCall(SceneHasKey(r, map, "shear_hysteresis_ratio", &has_ratio));
   if (has_ratio) {
     yaml_node_t *node;
@@ -782,7 +361,7 @@ static PetscErrorCode ReadShearHysteresis(SceneReader *r, yaml_node_t *map, Pets
     PetscCall(SceneHasKey(r, map, "shear_hysteresis", &has_hg));
     PetscCall(SceneGetValue(r, map, "shear_hysteresis_ratio", &node));
     if (has_hg) PetscCall(SceneFailValue(r, node, "shear_hysteresis_ratio", "no shear_hysteresis_ratio beside shear_hysteresis (give one of them)"));
-    PetscCall(ReadReal(r, map, "shear_hysteresis_ratio", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "2HG/G, rad", &ratio));
+    PetscCall(SceneKeyReal(r, map, "shear_hysteresis_ratio", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "2HG/G, rad", &ratio));
     fabric->shear_hysteresis = 0.5 * ratio * fabric->shear;
   }
   if (fabric->shear_hysteresis > 0 && shear_model != CLOTH_SHEAR_CELL) PetscCall(SceneFailValue(r, map, "shear_hysteresis", "shear hysteresis needs shear_model: cell"));
@@ -808,10 +387,10 @@ static PetscErrorCode ReadBendBias(SceneReader *r, yaml_node_t *map, PetscInt be
     key = "bend_bias_ratio";
     PetscCall(SceneGetValue(r, map, key, &value));
     if (has_bias) PetscCall(SceneFailValue(r, value, key, "no bend_bias_ratio beside bend_bias (give one of them)"));
-    PetscCall(ReadReal(r, map, key, PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "bias rigidity / mean of warp and weft", &ratio));
+    PetscCall(SceneKeyReal(r, map, key, PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "bias rigidity / mean of warp and weft", &ratio));
     fabric->bend_bias = 0.5 * ratio * (fabric->bend_warp + fabric->bend_weft);
   } else
-    PetscCall(ReadReal(r, map, key, PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "bending rigidity along the bias, N m", &fabric->bend_bias));
+    PetscCall(SceneKeyReal(r, map, key, PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "bending rigidity along the bias, N m", &fabric->bend_bias));
   if (fabric->bend_bias <= 0) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(SceneGetValue(r, map, key, &value));
   if (bend_model != CLOTH_BEND_ANGLE) PetscCall(SceneFailValue(r, value, key, "no %s with bend_model: link (the twist elements complete the angle model)", key));
@@ -837,20 +416,20 @@ static PetscErrorCode SceneReadFabric(SceneReader *r, yaml_node_t *name, yaml_no
   PetscCall(ReadFabricKES(r, map, fabric));
   shear_model = fabric->shear_model; /* a preset's or the KES block's models are the defaults */
   bend_model  = fabric->bend_model;
-  PetscCall(ReadReal(r, map, "density", fabric->preset[0] ? PETSC_FALSE : PETSC_TRUE, SCENE_REAL_POSITIVE, "kg/m^2", &fabric->density));
+  PetscCall(SceneKeyReal(r, map, "density", fabric->preset[0] ? PETSC_FALSE : PETSC_TRUE, SCENE_REAL_POSITIVE, "kg/m^2", &fabric->density));
   PetscCall(ReadWarpWeft(r, map, "stretch", fabric->preset[0] ? PETSC_FALSE : PETSC_TRUE, SCENE_REAL_POSITIVE, "N/m", &fabric->stretch_warp, &fabric->stretch_weft));
   PetscCall(ReadStretchCurve(r, map, fabric));
-  PetscCall(ReadReal(r, map, "shear", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "N/m", &fabric->shear));
-  PetscCall(ReadChoice(r, map, "shear_model", PETSC_FALSE, ClothShearModels, &shear_model));
+  PetscCall(SceneKeyReal(r, map, "shear", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "N/m", &fabric->shear));
+  PetscCall(SceneKeyChoice(r, map, "shear_model", PETSC_FALSE, ClothShearModels, &shear_model));
   PetscCall(ReadShearHysteresis(r, map, shear_model, fabric));
-  PetscCall(ReadChoice(r, map, "bend_model", PETSC_FALSE, ClothBendModels, &bend_model));
+  PetscCall(SceneKeyChoice(r, map, "bend_model", PETSC_FALSE, ClothBendModels, &bend_model));
   PetscCall(ReadWarpWeft(r, map, "bend", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, bend_model == CLOTH_BEND_LINK ? "N/m per skip-one link" : "bending rigidity, N m", &fabric->bend_warp, &fabric->bend_weft));
   PetscCall(ReadBendBias(r, map, bend_model, fabric));
   PetscCall(ReadBendHysteresis(r, map, fabric));
   if ((fabric->bend_hysteresis_warp > 0 || fabric->bend_hysteresis_weft > 0) && bend_model != CLOTH_BEND_ANGLE) PetscCall(SceneFailValue(r, map, "bend_hysteresis", "bending hysteresis needs bend_model: angle"));
-  PetscCall(ReadReal(r, map, "damping", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "1/s", &fabric->damping));
-  PetscCall(ReadReal(r, map, "repulsion", PETSC_FALSE, SCENE_REAL_FRACTION, "fraction of the rest length", &fabric->repulsion));
-  PetscCall(ReadReal(r, map, "repulsion_stiffness", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "relative to the stretch stiffness", &fabric->repulsion_stiffness));
+  PetscCall(SceneKeyReal(r, map, "damping", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "1/s", &fabric->damping));
+  PetscCall(SceneKeyReal(r, map, "repulsion", PETSC_FALSE, SCENE_REAL_FRACTION, "fraction of the rest length", &fabric->repulsion));
+  PetscCall(SceneKeyReal(r, map, "repulsion_stiffness", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "relative to the stretch stiffness", &fabric->repulsion_stiffness));
   fabric->shear_model = (ClothShearModel)shear_model;
   fabric->bend_model  = (ClothBendModel)bend_model;
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -926,7 +505,7 @@ static PetscErrorCode ReadFabricName(SceneReader *r, yaml_node_t *map, Scene sce
   yaml_node_t *node;
 
   PetscFunctionBeginUser;
-  PetscCall(ReadString(r, map, "fabric", PETSC_TRUE, name, sizeof(name), &node));
+  PetscCall(SceneKeyString(r, map, "fabric", PETSC_TRUE, name, sizeof(name), &node));
   for (PetscInt f = 0; f < scene->nfabrics; f++) {
     PetscBool match;
 
@@ -949,8 +528,8 @@ static PetscErrorCode ReadAxes(SceneReader *r, yaml_node_t *map, ScenePiece *pie
   PetscReal    dot;
 
   PetscFunctionBeginUser;
-  PetscCall(ReadDirection(r, map, "u_axis", piece->u_axis));
-  PetscCall(ReadDirection(r, map, "v_axis", piece->v_axis));
+  PetscCall(SceneKeyDirection(r, map, "u_axis", piece->u_axis));
+  PetscCall(SceneKeyDirection(r, map, "v_axis", piece->v_axis));
   dot = piece->u_axis[0] * piece->v_axis[0] + piece->u_axis[1] * piece->v_axis[1] + piece->u_axis[2] * piece->v_axis[2];
   if (PetscAbsReal(dot) > SCENE_ORTHOGONALITY_TOL) {
     PetscCall(SceneGetValue(r, map, "v_axis", &node));
@@ -978,11 +557,11 @@ static PetscErrorCode ReadBoundary(SceneReader *r, yaml_node_t *map, const char 
     PetscInt  segments = 32;
 
     PetscCall(SceneExpectMap(r, node, key, SceneArcKeys, expected));
-    PetscCall(ReadRealList(r, node, "center", PETSC_TRUE, 2, SCENE_REAL_ANY, "m", center));
-    PetscCall(ReadReal(r, node, "radius", PETSC_TRUE, SCENE_REAL_POSITIVE, "m", &radius));
-    PetscCall(ReadReal(r, node, "from", PETSC_TRUE, SCENE_REAL_ANY, "degrees", &from));
-    PetscCall(ReadReal(r, node, "to", PETSC_TRUE, SCENE_REAL_ANY, "degrees", &to));
-    PetscCall(ReadInt(r, node, "segments", PETSC_FALSE, 1, &segments));
+    PetscCall(SceneKeyRealList(r, node, "center", PETSC_TRUE, 2, SCENE_REAL_ANY, "m", center));
+    PetscCall(SceneKeyReal(r, node, "radius", PETSC_TRUE, SCENE_REAL_POSITIVE, "m", &radius));
+    PetscCall(SceneKeyReal(r, node, "from", PETSC_TRUE, SCENE_REAL_ANY, "degrees", &from));
+    PetscCall(SceneKeyReal(r, node, "to", PETSC_TRUE, SCENE_REAL_ANY, "degrees", &to));
+    PetscCall(SceneKeyInt(r, node, "segments", PETSC_FALSE, 1, &segments));
     *npoints = segments + 1;
     PetscCall(PetscMalloc1(2 * *npoints, points));
     for (PetscInt k = 0; k <= segments; k++) {
@@ -1040,7 +619,7 @@ static PetscErrorCode ReadBoundaries(SceneReader *r, yaml_node_t *map, ScenePiec
   PetscCall(CheckBoundaryCorners(r, node, piece));
   PetscCall(SceneGetValue(r, node, "nodes", &nodes));
   if (!nodes) PetscFunctionReturn(PETSC_SUCCESS);
-  PetscCall(ReadIntList(r, node, "nodes", PETSC_TRUE, 4, 2, count));
+  PetscCall(SceneKeyIntList(r, node, "nodes", PETSC_TRUE, 4, 2, count));
   if (count[0] != count[2] || count[1] != count[3])
     PetscCall(SceneFailValue(r, nodes, "nodes",
                              "node counts [bottom, right, top, left] with bottom = top and right = left (opposite boundaries carry the same threads); here bottom %" PetscInt_FMT ", top %" PetscInt_FMT ", right %" PetscInt_FMT ", left %" PetscInt_FMT,
@@ -1060,14 +639,14 @@ static PetscErrorCode ReadPinRegions(SceneReader *r, yaml_node_t *map, ScenePiec
   PetscCall(SceneGetValue(r, map, "pin_disc", &node));
   if (node) {
     PetscCall(SceneExpectMap(r, node, "pin_disc", ScenePinDiscKeys, NULL));
-    PetscCall(ReadRealList(r, node, "center", PETSC_TRUE, 2, SCENE_REAL_ANY, "m", piece->pin_disc));
-    PetscCall(ReadReal(r, node, "radius", PETSC_TRUE, SCENE_REAL_POSITIVE, "m", &piece->pin_disc[2]));
+    PetscCall(SceneKeyRealList(r, node, "center", PETSC_TRUE, 2, SCENE_REAL_ANY, "m", piece->pin_disc));
+    PetscCall(SceneKeyReal(r, node, "radius", PETSC_TRUE, SCENE_REAL_POSITIVE, "m", &piece->pin_disc[2]));
   }
   PetscCall(SceneGetValue(r, map, "pin_box", &node));
   if (node) {
     PetscCall(SceneExpectMap(r, node, "pin_box", ScenePinBoxKeys, NULL));
-    PetscCall(ReadRealList(r, node, "min", PETSC_TRUE, 2, SCENE_REAL_ANY, "m", &piece->pin_box[0]));
-    PetscCall(ReadRealList(r, node, "max", PETSC_TRUE, 2, SCENE_REAL_ANY, "m", &piece->pin_box[2]));
+    PetscCall(SceneKeyRealList(r, node, "min", PETSC_TRUE, 2, SCENE_REAL_ANY, "m", &piece->pin_box[0]));
+    PetscCall(SceneKeyRealList(r, node, "max", PETSC_TRUE, 2, SCENE_REAL_ANY, "m", &piece->pin_box[2]));
     if (!(piece->pin_box[2] > piece->pin_box[0] && piece->pin_box[3] > piece->pin_box[1])) PetscCall(SceneFailValue(r, node, "pin_box", "a box with max > min in both coordinates"));
   }
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -1084,7 +663,7 @@ static PetscErrorCode ReadGridAndSize(SceneReader *r, yaml_node_t *map, ScenePie
   PetscCall(ReadBoundaries(r, map, piece, &nodes_given));
   grid[0] = piece->grid_given[0];
   grid[1] = piece->grid_given[1];
-  PetscCall(ReadIntList(r, map, "grid", nodes_given ? PETSC_FALSE : PETSC_TRUE, 2, 2, grid));
+  PetscCall(SceneKeyIntList(r, map, "grid", nodes_given ? PETSC_FALSE : PETSC_TRUE, 2, 2, grid));
   if (nodes_given && (grid[0] != piece->grid_given[0] || grid[1] != piece->grid_given[1])) {
     PetscCall(SceneGetValue(r, map, "grid", &node));
     PetscCall(SceneFailValue(r, node, "grid", "[%" PetscInt_FMT ", %" PetscInt_FMT "], the node counts the boundaries give (bottom/top, left/right), or no grid", piece->grid_given[0], piece->grid_given[1]));
@@ -1108,7 +687,7 @@ static PetscErrorCode ReadGridAndSize(SceneReader *r, yaml_node_t *map, ScenePie
   }
   PetscCall(SceneGetValue(r, map, "size", &node));
   if (node && piece->has_boundaries) PetscCall(SceneFailValue(r, node, "size", "no size when the piece has boundaries (its outline gives its size)"));
-  PetscCall(ReadRealList(r, map, "size", piece->has_boundaries ? PETSC_FALSE : PETSC_TRUE, 2, SCENE_REAL_POSITIVE, "m", piece->size));
+  PetscCall(SceneKeyRealList(r, map, "size", piece->has_boundaries ? PETSC_FALSE : PETSC_TRUE, 2, SCENE_REAL_POSITIVE, "m", piece->size));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -1132,10 +711,10 @@ static PetscErrorCode ReadWrap(SceneReader *r, yaml_node_t *map, ScenePiece *pie
   PetscCall(SceneGetValue(r, wrap, "apex", &apex));
   if ((point == NULL) == (apex == NULL)) PetscCall(SceneFailValue(r, wrap, "wrap", "either axis_point (a cylinder) or apex (a cone)"));
   piece->wrap_cone = apex ? PETSC_TRUE : PETSC_FALSE;
-  PetscCall(ReadRealList(r, wrap, apex ? "apex" : "axis_point", PETSC_TRUE, 3, SCENE_REAL_ANY, "m", piece->wrap_point));
+  PetscCall(SceneKeyRealList(r, wrap, apex ? "apex" : "axis_point", PETSC_TRUE, 3, SCENE_REAL_ANY, "m", piece->wrap_point));
   piece->wrap_axis[0] = piece->wrap_axis[2] = 0;
   piece->wrap_axis[1]                       = 1;
-  PetscCall(ReadDirection(r, wrap, "axis", piece->wrap_axis));
+  PetscCall(SceneKeyDirection(r, wrap, "axis", piece->wrap_axis));
   normal[0] = piece->u_axis[1] * piece->v_axis[2] - piece->u_axis[2] * piece->v_axis[1];
   normal[1] = piece->u_axis[2] * piece->v_axis[0] - piece->u_axis[0] * piece->v_axis[2];
   normal[2] = piece->u_axis[0] * piece->v_axis[1] - piece->u_axis[1] * piece->v_axis[0];
@@ -1165,17 +744,17 @@ static PetscErrorCode SceneReadPiece(SceneReader *r, yaml_node_t *map, Scene sce
   PetscFunctionBeginUser;
   PetscCall(PetscSNPrintf(r->block, sizeof(r->block), "piece %" PetscInt_FMT, index + 1));
   PetscCall(SceneExpectMap(r, map, NULL, ScenePieceKeys, NULL));
-  PetscCall(ReadName(r, map, "name", PETSC_TRUE, piece->name, sizeof(piece->name), &name));
+  PetscCall(SceneKeyName(r, map, "name", PETSC_TRUE, piece->name, sizeof(piece->name), &name));
   PetscCall(SceneCheckNameUnique(r, name, "piece", piece->name, scene->pieces, sizeof(ScenePiece), index));
   PetscCall(PetscSNPrintf(r->block, sizeof(r->block), "piece '%s'", piece->name));
   PetscCall(ReadFabricName(r, map, scene, piece));
   PetscCall(ReadGridAndSize(r, map, piece));
-  PetscCall(ReadRealList(r, map, "origin", PETSC_FALSE, 3, SCENE_REAL_ANY, "m", piece->origin));
+  PetscCall(SceneKeyRealList(r, map, "origin", PETSC_FALSE, 3, SCENE_REAL_ANY, "m", piece->origin));
   piece->u_axis[0] = 1;
   piece->v_axis[1] = 1;
   PetscCall(ReadAxes(r, map, piece));
   PetscCall(ReadWrap(r, map, piece));
-  PetscCall(ReadChoice(r, map, "mass", PETSC_FALSE, ClothMassDistributions, &mass));
+  PetscCall(SceneKeyChoice(r, map, "mass", PETSC_FALSE, ClothMassDistributions, &mass));
   piece->mass_distribution = (ClothMassDistribution)mass;
   PetscCall(ReadPins(r, map, piece));
   PetscCall(ReadPinRegions(r, map, piece));
@@ -1211,16 +790,16 @@ static PetscErrorCode SceneReadRun(SceneReader *r, yaml_node_t *root, SceneRunDe
   if (!map) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(SceneExpectMap(r, map, "run", SceneRunKeys, NULL));
   PetscCall(PetscStrncpy(r->block, "run", sizeof(r->block)));
-  PetscCall(ReadChoice(r, map, "integrator", PETSC_FALSE, SceneIntegrators, &integrator));
+  PetscCall(SceneKeyChoice(r, map, "integrator", PETSC_FALSE, SceneIntegrators, &integrator));
   if (integrator >= 0) PetscCall(PetscStrncpy(run->integrator, SceneIntegrators[integrator], sizeof(run->integrator)));
-  PetscCall(ReadReal(r, map, "dt", PETSC_FALSE, SCENE_REAL_POSITIVE, "s", &run->dt));
-  PetscCall(ReadReal(r, map, "t_final", PETSC_FALSE, SCENE_REAL_POSITIVE, "s", &run->t_final));
-  PetscCall(ReadInt(r, map, "steps", PETSC_FALSE, 1, &run->steps));
+  PetscCall(SceneKeyReal(r, map, "dt", PETSC_FALSE, SCENE_REAL_POSITIVE, "s", &run->dt));
+  PetscCall(SceneKeyReal(r, map, "t_final", PETSC_FALSE, SCENE_REAL_POSITIVE, "s", &run->t_final));
+  PetscCall(SceneKeyInt(r, map, "steps", PETSC_FALSE, 1, &run->steps));
   PetscCall(SceneHasKey(r, map, "t_final", &has_t_final));
   PetscCall(SceneHasKey(r, map, "steps", &has_steps));
   PetscCheck(!(has_t_final && has_steps), r->comm, PETSC_ERR_USER_INPUT, "scene %s, line %d: keys 't_final' and 'steps' in run are both given: expected one of them", r->path, SceneNodeLine(map));
-  PetscCall(ReadInt(r, map, "output_every", PETSC_FALSE, 1, &run->output_every));
-  PetscCall(ReadInt(r, map, "checkpoint_every", PETSC_FALSE, 0, &run->checkpoint_every));
+  PetscCall(SceneKeyInt(r, map, "output_every", PETSC_FALSE, 1, &run->output_every));
+  PetscCall(SceneKeyInt(r, map, "checkpoint_every", PETSC_FALSE, 0, &run->checkpoint_every));
   r->block[0] = 0;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -1250,9 +829,9 @@ static PetscErrorCode ReadFriction(SceneReader *r, yaml_node_t *map, SceneBody *
   PetscCall(SceneGetValue(r, map, "friction", &friction));
   if (!friction) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(SceneExpectMap(r, friction, "friction", SceneFrictionKeys, NULL));
-  PetscCall(ReadReal(r, friction, "static", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, NULL, &body->friction_static));
+  PetscCall(SceneKeyReal(r, friction, "static", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, NULL, &body->friction_static));
   body->friction_kinetic = body->friction_static;
-  PetscCall(ReadReal(r, friction, "kinetic", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, NULL, &body->friction_kinetic));
+  PetscCall(SceneKeyReal(r, friction, "kinetic", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, NULL, &body->friction_kinetic));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -1263,7 +842,7 @@ static PetscErrorCode ReadBodyFile(SceneReader *r, yaml_node_t *map, SceneBody *
   const char *slash                = strrchr(r->path, '/');
 
   PetscFunctionBeginUser;
-  PetscCall(ReadString(r, map, "file", PETSC_TRUE, file, sizeof(file), NULL));
+  PetscCall(SceneKeyString(r, map, "file", PETSC_TRUE, file, sizeof(file), NULL));
   if (file[0] == '/' || !slash)
     PetscCall(PetscStrncpy(body->file, file, sizeof(body->file)));
   else
@@ -1281,28 +860,28 @@ static PetscErrorCode SceneReadBody(SceneReader *r, yaml_node_t *map, Scene scen
   PetscCall(PetscSNPrintf(r->block, sizeof(r->block), "body %" PetscInt_FMT, index + 1));
   PetscCall(SceneExpectMap(r, map, NULL, SceneBodyKeys, NULL));
   PetscCall(PetscSNPrintf(body->name, sizeof(body->name), "body%" PetscInt_FMT, index + 1));
-  PetscCall(ReadName(r, map, "name", PETSC_FALSE, body->name, sizeof(body->name), &name));
+  PetscCall(SceneKeyName(r, map, "name", PETSC_FALSE, body->name, sizeof(body->name), &name));
   PetscCall(SceneCheckNameUnique(r, name ? name : map, "body", body->name, scene->bodies, sizeof(SceneBody), index));
   PetscCall(PetscSNPrintf(r->block, sizeof(r->block), "body '%s'", body->name));
-  PetscCall(ReadChoice(r, map, "type", PETSC_TRUE, SceneBodyTypes, &type));
+  PetscCall(SceneKeyChoice(r, map, "type", PETSC_TRUE, SceneBodyTypes, &type));
   body->type      = (SceneBodyType)type;
   body->scale     = 1;
   body->normal[1] = 1;
   PetscCall(SceneCheckBodyTypeKeys(r, map, body));
   if (body->type == SCENE_BODY_SPHERE) {
-    PetscCall(ReadRealList(r, map, "center", PETSC_TRUE, 3, SCENE_REAL_ANY, "m", body->center));
-    PetscCall(ReadReal(r, map, "radius", PETSC_TRUE, SCENE_REAL_POSITIVE, "m", &body->radius));
+    PetscCall(SceneKeyRealList(r, map, "center", PETSC_TRUE, 3, SCENE_REAL_ANY, "m", body->center));
+    PetscCall(SceneKeyReal(r, map, "radius", PETSC_TRUE, SCENE_REAL_POSITIVE, "m", &body->radius));
   } else if (body->type == SCENE_BODY_PLANE) {
-    PetscCall(ReadRealList(r, map, "point", PETSC_TRUE, 3, SCENE_REAL_ANY, "m", body->point));
-    PetscCall(ReadDirection(r, map, "normal", body->normal));
+    PetscCall(SceneKeyRealList(r, map, "point", PETSC_TRUE, 3, SCENE_REAL_ANY, "m", body->point));
+    PetscCall(SceneKeyDirection(r, map, "normal", body->normal));
   } else {
     PetscCall(ReadBodyFile(r, map, body));
-    PetscCall(ReadReal(r, map, "scale", PETSC_FALSE, SCENE_REAL_POSITIVE, NULL, &body->scale));
-    PetscCall(ReadRealList(r, map, "rotation", PETSC_FALSE, 3, SCENE_REAL_ANY, "degrees", body->rotation));
-    PetscCall(ReadRealList(r, map, "translation", PETSC_FALSE, 3, SCENE_REAL_ANY, "m", body->translation));
+    PetscCall(SceneKeyReal(r, map, "scale", PETSC_FALSE, SCENE_REAL_POSITIVE, NULL, &body->scale));
+    PetscCall(SceneKeyRealList(r, map, "rotation", PETSC_FALSE, 3, SCENE_REAL_ANY, "degrees", body->rotation));
+    PetscCall(SceneKeyRealList(r, map, "translation", PETSC_FALSE, 3, SCENE_REAL_ANY, "m", body->translation));
   }
   PetscCall(ReadFriction(r, map, body));
-  PetscCall(ReadReal(r, map, "thickness", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "m", &body->thickness));
+  PetscCall(SceneKeyReal(r, map, "thickness", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "m", &body->thickness));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -1337,9 +916,9 @@ static PetscErrorCode SceneReadSelfCollision(SceneReader *r, yaml_node_t *root, 
   PetscCall(PetscStrncpy(r->block, "self_collision", sizeof(r->block)));
   self->given        = PETSC_TRUE;
   self->exclude_ring = 1;
-  PetscCall(ReadChoice(r, map, "enabled", PETSC_FALSE, SceneBooleans, &enabled));
+  PetscCall(SceneKeyChoice(r, map, "enabled", PETSC_FALSE, SceneBooleans, &enabled));
   self->enabled = enabled ? PETSC_TRUE : PETSC_FALSE;
-  PetscCall(ReadReal(r, map, "thickness", self->enabled, SCENE_REAL_POSITIVE, "m", &self->thickness));
+  PetscCall(SceneKeyReal(r, map, "thickness", self->enabled, SCENE_REAL_POSITIVE, "m", &self->thickness));
   if (self->enabled) {
     yaml_node_t *node;
     PetscReal    spacing;
@@ -1350,9 +929,9 @@ static PetscErrorCode SceneReadSelfCollision(SceneReader *r, yaml_node_t *root, 
       PetscCall(SceneFailValue(r, node, "thickness", "a positive number (m) of at most %d particle spacings, %g m (the coarsest piece's spacing is %g m)", SCENE_SELF_COLLISION_MAX_SPACINGS, (double)(SCENE_SELF_COLLISION_MAX_SPACINGS * spacing),
                                (double)spacing));
   }
-  PetscCall(ReadReal(r, map, "stiffness", self->enabled, SCENE_REAL_POSITIVE, "N/m", &self->stiffness));
-  PetscCall(ReadInt(r, map, "exclude_ring", PETSC_FALSE, 0, &self->exclude_ring));
-  PetscCall(ReadChoice(r, map, "same_piece", PETSC_FALSE, SceneBooleans, &same_piece));
+  PetscCall(SceneKeyReal(r, map, "stiffness", self->enabled, SCENE_REAL_POSITIVE, "N/m", &self->stiffness));
+  PetscCall(SceneKeyInt(r, map, "exclude_ring", PETSC_FALSE, 0, &self->exclude_ring));
+  PetscCall(SceneKeyChoice(r, map, "same_piece", PETSC_FALSE, SceneBooleans, &same_piece));
   self->same_piece = same_piece ? PETSC_TRUE : PETSC_FALSE;
   r->block[0]      = 0;
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -1368,7 +947,7 @@ static PetscErrorCode SceneReadSeamSide(SceneReader *r, yaml_node_t *seam, const
   PetscFunctionBeginUser;
   PetscCall(SceneGetValueChecked(r, seam, key, PETSC_TRUE, "a map {piece: NAME, side: bottom|right|top|left, from: 0, to: 1}", &map));
   PetscCall(SceneExpectMap(r, map, key, SceneSeamSideKeys, NULL));
-  PetscCall(ReadString(r, map, "piece", PETSC_TRUE, name, sizeof(name), &where));
+  PetscCall(SceneKeyString(r, map, "piece", PETSC_TRUE, name, sizeof(name), &where));
   side->piece = -1;
   for (PetscInt p = 0; p < scene->npieces; p++) {
     PetscBool match;
@@ -1376,12 +955,12 @@ static PetscErrorCode SceneReadSeamSide(SceneReader *r, yaml_node_t *seam, const
     if (match) side->piece = p;
   }
   if (side->piece < 0) PetscCall(SceneFailValue(r, where, "piece", "the name of a piece given under 'pieces'"));
-  PetscCall(ReadChoice(r, map, "side", PETSC_TRUE, ClothPieceSides, &s));
+  PetscCall(SceneKeyChoice(r, map, "side", PETSC_TRUE, ClothPieceSides, &s));
   side->side = (ClothPieceSide)s;
   side->from = 0;
   side->to   = 1;
-  PetscCall(ReadReal(r, map, "from", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "fraction of the side's length", &side->from));
-  PetscCall(ReadReal(r, map, "to", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "fraction of the side's length", &side->to));
+  PetscCall(SceneKeyReal(r, map, "from", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "fraction of the side's length", &side->from));
+  PetscCall(SceneKeyReal(r, map, "to", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "fraction of the side's length", &side->to));
   if (side->from > 1 || side->to > 1 || side->from == side->to) PetscCall(SceneFailValue(r, map, key, "from and to: two different fractions in [0, 1]"));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -1410,6 +989,8 @@ static PetscErrorCode SceneReadSeams(SceneReader *r, yaml_node_t *root, Scene sc
   PetscCall(SceneGetValue(r, root, "seams", &list));
   if (!list) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(SceneGetItems(r, list, "seams", -1, expected, &items, &scene->nseams));
+  PetscCheck(scene->nseams <= SCENE_MAX_SEAMS, r->comm, PETSC_ERR_USER_INPUT, "scene %s, line %d: key 'seams': expected at most %d seams (what a checkpoint stores exactly: the sewn seams of a particle are bits of a float64), got %" PetscInt_FMT, r->path,
+             SceneNodeLine(list), SCENE_MAX_SEAMS, scene->nseams);
   PetscCall(PetscCalloc1(scene->nseams, &scene->seams));
   for (PetscInt k = 0; k < scene->nseams; k++) {
     yaml_node_t *map  = yaml_document_get_node(r->doc, items[k]);
@@ -1418,12 +999,12 @@ static PetscErrorCode SceneReadSeams(SceneReader *r, yaml_node_t *root, Scene sc
 
     PetscCall(SceneExpectMap(r, map, "seams", SceneSeamKeys, NULL));
     PetscCall(PetscSNPrintf(seam->name, sizeof(seam->name), "seam%" PetscInt_FMT, k));
-    PetscCall(ReadName(r, map, "name", PETSC_FALSE, seam->name, sizeof(seam->name), NULL));
+    PetscCall(SceneKeyName(r, map, "name", PETSC_FALSE, seam->name, sizeof(seam->name), NULL));
     PetscCall(PetscSNPrintf(r->block, sizeof(r->block), "seam '%s'", seam->name));
     PetscCall(SceneReadSeamSide(r, map, "a", scene, &seam->a));
     PetscCall(SceneReadSeamSide(r, map, "b", scene, &seam->b));
     PetscCall(SceneCheckSeamSidesApart(r, map, scene, seam));
-    PetscCall(ReadChoice(r, map, "bend", PETSC_FALSE, SceneBooleans, &bend));
+    PetscCall(SceneKeyChoice(r, map, "bend", PETSC_FALSE, SceneBooleans, &bend));
     seam->bend = bend ? PETSC_TRUE : PETSC_FALSE;
   }
   r->block[0] = 0;
@@ -1445,12 +1026,12 @@ static PetscErrorCode SceneReadSewing(SceneReader *r, yaml_node_t *root, SceneSe
   if (!map) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(SceneExpectMap(r, map, "sewing", SceneSewingKeys, NULL));
   PetscCall(PetscStrncpy(r->block, "sewing", sizeof(r->block)));
-  PetscCall(ReadReal(r, map, "pull_acceleration", PETSC_FALSE, SCENE_REAL_POSITIVE, "m/s^2", &sewing->pull_acceleration));
-  PetscCall(ReadReal(r, map, "pull_radius", PETSC_FALSE, SCENE_REAL_POSITIVE, "m", &sewing->pull_radius));
-  PetscCall(ReadReal(r, map, "sewn_stiffness", PETSC_FALSE, SCENE_REAL_POSITIVE, "N/m", &sewing->sewn_stiffness));
-  PetscCall(ReadReal(r, map, "tolerance", PETSC_FALSE, SCENE_REAL_POSITIVE, "m", &sewing->tolerance));
-  PetscCall(ReadReal(r, map, "max_time", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "s", &sewing->max_time));
-  PetscCall(ReadReal(r, map, "pull_friction", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "", &sewing->pull_friction));
+  PetscCall(SceneKeyReal(r, map, "pull_acceleration", PETSC_FALSE, SCENE_REAL_POSITIVE, "m/s^2", &sewing->pull_acceleration));
+  PetscCall(SceneKeyReal(r, map, "pull_radius", PETSC_FALSE, SCENE_REAL_POSITIVE, "m", &sewing->pull_radius));
+  PetscCall(SceneKeyReal(r, map, "sewn_stiffness", PETSC_FALSE, SCENE_REAL_POSITIVE, "N/m", &sewing->sewn_stiffness));
+  PetscCall(SceneKeyReal(r, map, "tolerance", PETSC_FALSE, SCENE_REAL_POSITIVE, "m", &sewing->tolerance));
+  PetscCall(SceneKeyReal(r, map, "max_time", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "s", &sewing->max_time));
+  PetscCall(SceneKeyReal(r, map, "pull_friction", PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "", &sewing->pull_friction));
   r->block[0] = 0;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -1464,10 +1045,10 @@ static PetscErrorCode SceneReadDocument(SceneReader *r, Scene scene)
   PetscCall(SceneJoinNames(SceneTopKeys, -1, keys, sizeof(keys)));
   PetscCheck(root, r->comm, PETSC_ERR_USER_INPUT, "scene %s, line 1: the file is empty: expected a map with keys among %s", r->path, keys);
   PetscCall(SceneExpectMap(r, root, NULL, SceneTopKeys, NULL));
-  PetscCall(ReadName(r, root, "name", PETSC_FALSE, scene->name, sizeof(scene->name), &name));
+  PetscCall(SceneKeyName(r, root, "name", PETSC_FALSE, scene->name, sizeof(scene->name), &name));
   PetscCheck(name || SceneNameIsSafe(scene->name), r->comm, PETSC_ERR_USER_INPUT, "scene %s: the scene is named '%s' after its file, which names the output files: expected a key 'name' (" SCENE_NAME_RULE ") or a file name of such characters",
              r->path, scene->name);
-  PetscCall(ReadRealList(r, root, "gravity", PETSC_FALSE, 3, SCENE_REAL_ANY, "m/s^2", scene->gravity));
+  PetscCall(SceneKeyRealList(r, root, "gravity", PETSC_FALSE, 3, SCENE_REAL_ANY, "m/s^2", scene->gravity));
   PetscCall(SceneReadFabrics(r, root, scene));
   PetscCall(SceneReadPieces(r, root, scene));
   PetscCall(SceneReadRun(r, root, &scene->run));
@@ -1540,22 +1121,13 @@ static PetscErrorCode SceneReadBytes(MPI_Comm comm, const char path[], char **by
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* Fails with libyaml's description of a syntax error. */
-static PetscErrorCode SceneFailSyntax(MPI_Comm comm, const char path[], yaml_parser_t *parser)
-{
-  char context[SCENE_TEXT_LEN] = "";
-
-  PetscFunctionBeginUser;
-  if (parser->context) PetscCall(PetscSNPrintf(context, sizeof(context), " (%s at line %d)", parser->context, (int)parser->context_mark.line + 1));
-  SETERRQ(comm, PETSC_ERR_USER_INPUT, "scene %s, line %d: YAML syntax error: %s%s: expected a well-formed YAML document", path, (int)parser->problem_mark.line + 1, parser->problem ? parser->problem : "unknown problem", context);
-}
 
 /* Parses the bytes (the same on every rank) and reads the document into scene. */
 static PetscErrorCode SceneParse(MPI_Comm comm, const char bytes[], size_t len, Scene scene)
 {
   yaml_parser_t   parser;
   yaml_document_t doc, extra;
-  SceneReader     reader = {comm, scene->path, &doc, ""};
+  SceneReader     reader = {comm, scene->path, &doc, "", SceneRealBounds};
   PetscErrorCode  ierr;
   PetscBool       more;
 

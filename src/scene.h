@@ -189,6 +189,11 @@ PetscErrorCode SceneGetLargestSpacing(Scene scene, PetscReal *spacing);
 /* The most particle spacings (SceneGetLargestSpacing) a self-collision thickness may span: layers a few spacings
    apart are what it is for; far beyond, it throws the fabric (a 10 m thickness threw a sheet 15 m). */
 #define SCENE_SELF_COLLISION_MAX_SPACINGS 50
+/* The most seams a scene may have: a checkpoint stores the sewn seams of a particle as the sum of 2^s over its
+   sewn seams s in a float64 (src/sewing.c, ClothSewingGetStateVec), exact for s < 53 (the bits of a double's
+   significand); beyond, seams would come back from a restart unsewn or sewn wrongly. The sewing's own masks hold
+   64 (SEWING_MAX_SEAMS). */
+#define SCENE_MAX_SEAMS 53
 /* Prints a short summary (pieces with grid and particle count, fabrics, gravity, run defaults) to an ASCII viewer
    (NULL: stdout of the scene's communicator). */
 PetscErrorCode SceneView(Scene scene, PetscViewer viewer);

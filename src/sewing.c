@@ -308,7 +308,8 @@ PetscErrorCode ClothSewingGetStateVec(ClothSewing sewing, Vec sewn)
   PetscCall(VecZeroEntries(sewn));
   PetscCall(VecGetOwnershipRange(sewn, &lo, &hi));
   PetscCall(VecGetArray(sewn, &a));
-  for (PetscInt l = 0; l < sewing->nlinks; l++) {
+  PetscCheck(sewing->scene->nseams <= SCENE_MAX_SEAMS, sewing->comm, PETSC_ERR_SUP, "A checkpoint stores at most %d seams exactly, the scene has %" PetscInt_FMT, SCENE_MAX_SEAMS, sewing->scene->nseams);
+  for (PetscInt l = 0; l < sewing->nlinks; l++) { /* a sum of distinct 2^s, s < SCENE_MAX_SEAMS: exact in a double */
     const PetscInt node = model->seamlinks[l].p[0];
     if (sewing->sewn[l] && node >= lo && node < hi) a[node - lo] += PetscPowReal(2.0, (PetscReal)model->seamlinks[l].seam);
   }

@@ -28,6 +28,9 @@ robustness_case(dt_nan 2 2 ${sheet} "option -dt nan: expected a finite number > 
 robustness_case(dt_text 2 1 ${sheet} "Input string abc has no numeric value" -- -dt abc)
 robustness_case(grid_overflow 2 1 ${sheet} "-grid 65536: the pieces have 4294967296 particles in all: expected at most 715827882" -- -grid 65536)
 robustness_case(grid_memory 2 2 ${sheet} "the grids ('sheet' 26000 x 26000) give 676000000 particles" "GB of memory on a node" -- -grid 26000)
+robustness_case(steps_beyond_int 2 1 ${sheet} "option -steps 3000000000: expected an integer >= 0 and <= 2147483647" -- -steps 3000000000)
+robustness_case(steps_wraps_positive 2 2 ${sheet} "option -steps 5000000000: expected an integer >= 0 and <= 2147483647" -- -steps 5000000000)
+robustness_case(checkpoint_every_beyond_int 2 1 ${sheet} "option -checkpoint_every 4294967297: expected an integer >= 0 and <= 2147483647" -- -checkpoint_every 4294967297)
 robustness_case(max_halvings_negative 2 1 ${sheet} "option -integrator_max_halvings -1: expected an integer >= 0 and <= 30" -- -integrator_max_halvings -1)
 robustness_case(grid_too_small 2 1 ${sheet} "option -grid 1: expected an integer >= 2" -- -grid 1)
 robustness_case(scene_dev_zero 2 1 /dev/zero "scene /dev/zero: the file is larger than 64 MB: expected a YAML scene file")
@@ -65,10 +68,19 @@ set_tests_properties(robust_output_dir_ownership PROPERTIES TIMEOUT 300 PROCESSO
 clothsim_add_script_test(robust_full_disk full_disk.sh)
 set_tests_properties(robust_full_disk PROPERTIES TIMEOUT 300 PROCESSORS 2 SKIP_RETURN_CODE 77 LABELS robustness)
 
-# A path longer than Open MPI's ompio opens is refused before the first step, not after the computing
-# (tests/long_path.sh: with OMPI_MCA_io=romio321 the same run works).
+# A disk that fills inside a checkpoint's HDF5 writes (after the space check): exit 3 naming the temporary file and
+# "No space left on device", the file deleted, the earlier checkpoints complete (tests/checkpoint_write_failure.sh,
+# with the fault injector tests/fault_full_disk.c).
+add_library(fault_full_disk SHARED ${CMAKE_CURRENT_SOURCE_DIR}/fault_full_disk.c)
+target_link_libraries(fault_full_disk PRIVATE ${CMAKE_DL_LIBS})
+clothsim_add_script_test(robust_checkpoint_write_failure checkpoint_write_failure.sh $<TARGET_FILE:fault_full_disk>)
+set_tests_properties(robust_checkpoint_write_failure PROPERTIES TIMEOUT 200 PROCESSORS 2 LABELS robustness)
+
+# A path longer than Open MPI's ompio opens (244 characters) works: ROMIO is chosen before the first file; the
+# files equal a short-path run's, a restart reads them; with OMPI_MCA_io=ompio forced it is refused before the
+# first step (tests/long_path.sh).
 clothsim_add_script_test(robust_long_output_path long_path.sh)
-set_tests_properties(robust_long_output_path PROPERTIES TIMEOUT 120 SKIP_RETURN_CODE 77 LABELS robustness)
+set_tests_properties(robust_long_output_path PROPERTIES TIMEOUT 200 PROCESSORS 2 SKIP_RETURN_CODE 77 LABELS robustness)
 
 # User errors end with one message and exit 2 whether raised on every rank or on one (no hang): tests/error_exit.sh.
 clothsim_add_test_program(test_error_exit test_error_exit.c)
