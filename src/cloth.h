@@ -89,11 +89,17 @@ typedef struct {
 typedef struct {
   const char *name; /* for messages */
   void       *ctx;  /* the contribution's object; identifies it in ClothRemoveContribution */
-  /* Adds forces and what else args asks for. Collective. */
+  /* Adds forces and what else args asks for, at every evaluation. May be NULL (add_to_implicit_step only). Collective. */
   PetscErrorCode (*add)(void *ctx, const ClothContributionArgs *args);
   /* Adds, per owned particle (row), the 3x3 blocks coupled beyond the interactions' pattern: diagonal / off-diagonal
      part of the matrix, and of them those above the diagonal. May be NULL. Not collective. */
   PetscErrorCode (*count_row_blocks)(void *ctx, PetscInt dnnz[], PetscInt onnz[], PetscInt dnnzu[], PetscInt onnzu[]);
+  /* Forces of the implicit step alone that depend on the whole force at the step's start (body friction, whose normal
+     force is the push into the body: collision.c, -collision_friction implicit). Called by ClothAssembleImplicitSystem
+     after every other force and diagonal block, with the step size h, the velocity at the step's start, the force F
+     there (owned entries complete) and the matrix being assembled: adds its force to F (so that it enters the
+     right-hand side) and h times minus its velocity Jacobian to the owned diagonal blocks of A. May be NULL. */
+  PetscErrorCode (*add_to_implicit_step)(void *ctx, PetscReal h, Vec velocity, Vec force, Mat A);
 } ClothContribution;
 #define CLOTH_MAX_CONTRIBUTIONS 8
 /* Counts the block (row, col) (solver indices, row owned: rstart <= row < rend) in its row's preallocation: the
@@ -169,14 +175,7 @@ static inline PetscReal ClothContactScale(const PetscScalar c[3])
 }
 /* One particle's filter S (row-major 3x3) from its entry c of the contact constraints (NULL: free) and
    whether it is pinned; returns whether S differs from I. */
-PetscBool ClothContactFilter(const PetscScalar *c, PetscBool pinned, PetscReal S[9]);
-/* Friction of body contacts inside the linearised implicit step (collision.h, -collision_friction implicit): called
-   by ClothAssembleImplicitSystem with the step size h, the velocity at the step's start, the force F there (owned
-   entries complete) and the matrix being assembled (owned diagonal blocks not yet assembled); adds the friction
-   force to F (so that it enters the right-hand side) and h times minus its velocity Jacobian to the diagonal
-   blocks of A. NULL: none. */
-typedef PetscErrorCode (*ClothContactFrictionFn)(void *ctx, PetscReal h, Vec velocity, Vec force, Mat A);
-PetscErrorCode ClothSetContactFriction(Cloth cloth, ClothContactFrictionFn friction, void *ctx);
+PetscBool      ClothContactFilter(const PetscScalar *c, PetscBool pinned, PetscReal S[9]);
 PetscErrorCode ClothComputeEnergy(Cloth cloth, Vec position, Vec velocity, ClothEnergy *energy);
 
 /* Natural-order Vecs (PETSc's default contiguous layout, block size 3) for files. */

@@ -203,7 +203,8 @@ static PetscErrorCode AddContributions(Cloth cloth, Vec position, Vec velocity, 
   ClothContributionArgs args = {position, velocity, force, kv, ev->A, ev->h2, ev->psd, ev->energy_wanted ? &ev->energy : NULL};
 
   PetscFunctionBeginUser;
-  for (PetscInt c = 0; c < cloth->ncontributions; c++) PetscCall(cloth->contributions[c].add(cloth->contributions[c].ctx, &args));
+  for (PetscInt c = 0; c < cloth->ncontributions; c++)
+    if (cloth->contributions[c].add) PetscCall(cloth->contributions[c].add(cloth->contributions[c].ctx, &args));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -329,7 +330,8 @@ PetscErrorCode ClothAssembleImplicitSystem(Cloth cloth, PetscReal h, Vec positio
   PetscCall(GetContactNormalsLocal(cloth, &normal_local, &ev.normal));
   PetscCall(ClothEvaluate(cloth, position, velocity, cloth->work_force, cloth->work_kv, &ev));
   PetscCall(AddDiagonalBlocks(cloth, ev.normal, h, A));
-  if (cloth->contact_friction) PetscCall(cloth->contact_friction(cloth->contact_friction_ctx, h, velocity, cloth->work_force, A));
+  for (PetscInt c = 0; c < cloth->ncontributions; c++) /* forces that depend on the whole force (body friction) */
+    if (cloth->contributions[c].add_to_implicit_step) PetscCall(cloth->contributions[c].add_to_implicit_step(cloth->contributions[c].ctx, h, velocity, cloth->work_force, A));
   PetscCall(RestoreContactNormalsLocal(cloth, &normal_local, &ev.normal));
   PetscCall(MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY));
   /* rhs = h (F - h K v), filtered, while the matrix assembly communicates */
@@ -450,7 +452,7 @@ PetscErrorCode ClothSetSelfContact(Cloth cloth, ClothSelfContact sc)
 PetscErrorCode ClothAddContribution(Cloth cloth, const ClothContribution *contribution)
 {
   PetscFunctionBeginUser;
-  PetscCheck(contribution->add, PETSC_COMM_SELF, PETSC_ERR_ARG_NULL, "Contribution '%s' has no add function", contribution->name);
+  PetscCheck(contribution->add || contribution->add_to_implicit_step, PETSC_COMM_SELF, PETSC_ERR_ARG_NULL, "Contribution '%s' adds nothing (no add or add_to_implicit_step)", contribution->name);
   PetscCheck(cloth->ncontributions < CLOTH_MAX_CONTRIBUTIONS, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "Contribution '%s': the cloth takes at most %d", contribution->name, CLOTH_MAX_CONTRIBUTIONS);
   cloth->contributions[cloth->ncontributions++] = *contribution;
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -471,13 +473,5 @@ PetscErrorCode ClothGetSelfContact(Cloth cloth, ClothSelfContact *sc)
 {
   PetscFunctionBeginUser;
   *sc = cloth->self_contact;
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-PetscErrorCode ClothSetContactFriction(Cloth cloth, ClothContactFrictionFn friction, void *ctx)
-{
-  PetscFunctionBeginUser;
-  cloth->contact_friction     = friction;
-  cloth->contact_friction_ctx = ctx;
   PetscFunctionReturn(PETSC_SUCCESS);
 }

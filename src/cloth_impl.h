@@ -43,8 +43,6 @@ struct _n_Cloth {
   struct _n_ClothSelfContact *self_contact;                           /* cloth-cloth contacts whose updates the integrator applies (borrowed, NULL: off) */
   ClothContribution           contributions[CLOTH_MAX_CONTRIBUTIONS]; /* plugged-in forces (cloth.h) */
   PetscInt                    ncontributions;
-  ClothContactFrictionFn      contact_friction; /* body friction inside the implicit step (NULL: none) */
-  void                       *contact_friction_ctx;
   Vec                         natural; /* template for natural-order Vecs */
   VecScatter                  to_natural;
 };

@@ -281,7 +281,7 @@ static PetscReal ContactSlop(const SceneBody *d)
   return PetscMax(0.5 * d->thickness, 1e-5);
 }
 
-/* ClothContactFrictionFn of -collision_friction implicit: for every owned particle held (sliding) on a body, the
+/* The add_to_implicit_step of the body-friction contribution (cloth.h) of -collision_friction implicit: for every owned particle held (sliding) on a body, the
    regularised friction at the step's start velocity goes into the force (so h f into the right-hand side) and h D
    onto its diagonal block: the linearised backward-Euler step with f(v + dv) ~ f(v) - D dv. The normal force is
    the push into the body of the force at the step's start, N = max(0, -F.n) (the force the constraint S = I - n n^T
@@ -735,7 +735,11 @@ PetscErrorCode ClothCollisionSetUp(ClothCollision col)
   }
   PetscCall(ClothCreateStateVec(col->cloth, &col->force));
   PetscCall(PushOutStartingInside(col));
-  if (col->friction == CLOTH_COLLISION_FRICTION_IMPLICIT) PetscCall(ClothSetContactFriction(col->cloth, AddFrictionToImplicitStep, col));
+  if (col->friction == CLOTH_COLLISION_FRICTION_IMPLICIT) {
+    const ClothContribution friction = {"body friction", col, NULL, NULL, AddFrictionToImplicitStep};
+
+    PetscCall(ClothAddContribution(col->cloth, &friction));
+  }
   col->setup = PETSC_TRUE;
   if (col->view) PetscCall(ClothCollisionView(col, PETSC_VIEWER_STDOUT_(col->comm)));
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -1016,7 +1020,7 @@ PetscErrorCode ClothCollisionDestroy(ClothCollision *collision)
   PetscCall(PetscFree2(col->bodies, col->meshes));
   PetscCall(PetscFree(col->held));
   PetscCall(PetscFree(col->vt_start));
-  if (col->setup && col->friction == CLOTH_COLLISION_FRICTION_IMPLICIT) PetscCall(ClothSetContactFriction(col->cloth, NULL, NULL));
+  if (col->setup) PetscCall(ClothRemoveContribution(col->cloth, col));
   PetscCall(PetscFree(col->state));
   PetscCall(PetscFree(col->normal_force));
   for (PetscInt slot = 0; slot < 2; slot++) {

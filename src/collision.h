@@ -20,7 +20,7 @@
    number / signed distance) are pushed out to the nearest surface point at set-up.
    With -collision_friction implicit (default) the friction of held contacts is not applied after the step but is
    part of the implicit step itself: a regularised Coulomb force -mu(|v_t|) |F_n| v_t / sqrt(|v_t|^2 + eps_v^2)
-   and its velocity Jacobian, added through ClothSetContactFriction; only impacts get the Coulomb impulse after
+   and its velocity Jacobian, added through a ClothContribution (cloth.h, add_to_implicit_step); only impacts get the Coulomb impulse after
    the step. */
 #pragma once
 #include "cloth.h"

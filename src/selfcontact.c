@@ -475,10 +475,11 @@ static PetscErrorCode AddContribution(void *ctx, const ClothContributionArgs *ar
 PetscErrorCode ClothSelfContactGetContribution(ClothSelfContact sc, ClothContribution *contribution)
 {
   PetscFunctionBeginUser;
-  contribution->name             = "self-contact";
-  contribution->ctx              = sc;
-  contribution->add              = AddContribution;
-  contribution->count_row_blocks = CountRowBlocks;
+  contribution->name                 = "self-contact";
+  contribution->ctx                  = sc;
+  contribution->add                  = AddContribution;
+  contribution->count_row_blocks     = CountRowBlocks;
+  contribution->add_to_implicit_step = NULL;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

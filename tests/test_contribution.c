@@ -144,7 +144,7 @@ int main(int argc, char **argv)
   Scene             scene;
   Cloth             cloth;
   ClothIntegrator   integ;
-  ClothContribution springs;
+  ClothContribution springs = {0};
   AnchorSprings     ctx;
   ClothEnergy       e;
   Vec               x, v;
