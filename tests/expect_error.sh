@@ -48,8 +48,11 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 [[ " ${options[*]-} " == *" -output_dir "* ]] || options+=(-output_dir "$tmp/out")
 
-output=$(timeout 120 "$mpiexec" -n "$ranks" "$CLOTHSIM" -scene "$scene" "${options[@]}" 2>&1)
+# stdout and stderr captured apart: mpiexec forwards the two streams separately, and one merged stream can splice a
+# line of one into a line of the other on a loaded machine (seen: "ERROR: " not at the start of its line)
+timeout 120 "$mpiexec" -n "$ranks" "$CLOTHSIM" -scene "$scene" "${options[@]}" > "$tmp/stdout" 2> "$tmp/stderr"
 status=$?
+output=$(cat "$tmp/stdout" "$tmp/stderr")
 
 fail() {
   echo "FAIL ($scene ${options[*]} on $ranks rank(s), exit code $status): $1"
@@ -69,7 +72,7 @@ if [[ $scene_only -eq 1 ]]; then
   count=$(grep -cF -- "ERROR: scene $scene" <<<"$output")
   [[ $count -eq 1 ]] || fail "the message appears $count times, expected once"
 fi
-count=$(grep -c "^ERROR: " <<<"$output")
+count=$(grep -c "^ERROR: " "$tmp/stderr")
 [[ $count -eq 1 ]] || fail "$count lines start with 'ERROR: ', expected one message"
 if grep -q "PETSC ERROR" <<<"$output"; then fail "PETSc's traceback was printed for a user error"; fi
-echo "PASS: $scene ${options[*]} refused on $ranks rank(s), exit $status, with: $(grep "^ERROR: " <<<"$output")"
+echo "PASS: $scene ${options[*]} refused on $ranks rank(s), exit $status, with: $(grep "^ERROR: " "$tmp/stderr")"
