@@ -297,15 +297,14 @@ PetscErrorCode ClothIntegratorSetFromOptions(ClothIntegrator integ)
 
 /* The implicit solver, chosen by measurement (docs/performance.md): CG (the system is symmetric positive definite)
    to PETSc's default relative tolerance 1e-5 (as the Taichi peer), preconditioned by point-block Jacobi on small
-   systems and by smoothed-aggregation multigrid (GAMG, kept between steps: preconditioner.h) on large ones, whose
-   iteration count stays flat as the sheet grows where point-block Jacobi's grows with the particles per side (147,
-   293, 537 at 65, 129, 257). Point-block Jacobi's iterates do not depend on the partition (runs and restarts agree
-   across rank counts to rounding); GAMG's aggregates do, so different rank counts agree to the solver tolerance.
+   systems and by multigrid on large ones (kept between steps: preconditioner.h): on the pattern pieces' own grids
+   (gridhierarchy.h) without seams, GAMG with them. Multigrid's iteration count stays flat as the sheet grows where
+   point-block Jacobi's grows with the particles per side (147, 293, 537 at 65, 129, 257). Point-block Jacobi's and the
+   pattern-grid multigrid's iterates do not depend on the partition (different rank counts agree to rounding, amplified
+   by the solver); GAMG's aggregates do, so different rank counts agree to the solver tolerance.
    Every -ksp_, -pc_, -mg_levels_, -fallback_ and -implicit_ option overrides. */
 static PetscErrorCode ClothIntegratorSetUpImplicit(ClothIntegrator integ)
 {
-  PetscInt nparticles;
-
   PetscFunctionBeginUser;
   PetscCall(ClothCreateMatrix(integ->cloth, &integ->A));
   PetscCall(MatCreateVecs(integ->A, &integ->dv, NULL));
@@ -314,8 +313,7 @@ static PetscErrorCode ClothIntegratorSetUpImplicit(ClothIntegrator integ)
   PetscCall(ClothCreateStateVec(integ->cloth, &integ->rhs));
   PetscCall(KSPCreate(integ->comm, &integ->ksp));
   PetscCall(KSPSetType(integ->ksp, KSPCG));
-  PetscCall(ClothGetSizes(integ->cloth, NULL, &nparticles));
-  PetscCall(ClothPreconditionerCreate(integ->ksp, nparticles, &integ->pre));
+  PetscCall(ClothPreconditionerCreate(integ->ksp, integ->cloth, &integ->pre));
   PetscCall(KSPSetTolerances(integ->ksp, PETSC_DEFAULT, 1e-50, PETSC_DEFAULT, CLOTH_KRYLOV_MAX_IT));
   PetscCall(KSPSetInitialGuessNonzero(integ->ksp, PETSC_TRUE)); /* dv of the last step: a good guess */
   PetscCall(KSPSetFromOptions(integ->ksp));

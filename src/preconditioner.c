@@ -1,10 +1,17 @@
 /* ClothPreconditioner (see preconditioner.h). */
 #include "preconditioner.h"
+#include "gridhierarchy.h"
 
-/* The default preconditioner is GAMG from this many particles on, point-block Jacobi below. Measured on the hanging
-   sheet (docs/performance.md): GAMG takes 1.4x the wall time of point-block Jacobi at 65 x 65 (its set-up costs
-   about as much as the 147 Jacobi iterations it saves), about the same at 129 x 129 (0.88x on 1 rank, 1.17x on 2),
-   1.8-1.9x less at 257 x 257. */
+/* The default preconditioner (docs/performance.md, "Pattern-grid multigrid"):
+   - a scene without seams (sheets, drapes): the pattern-grid multigrid from CLOTH_PC_GRID_MIN_PARTICLES particles on.
+     On the hanging sheet, 1 rank: as fast as point-block Jacobi at 33 x 33, 1.2x faster at 49 x 49, 1.4x at 65 x 65
+     (2 ranks: 2.3x); 1.3x faster than GAMG at 257 x 257 (1 and 2 ranks) with 8 iterations a step against 10.7.
+   - a garment (seams): GAMG from CLOTH_PC_MULTILEVEL_MIN_PARTICLES on. On the dress (2,478 particles) the grid
+     multigrid takes 84 iterations a step against point-block Jacobi's 219 but 2.3x its wall time: the pieces are
+     small and the stiff seams couple them only on the finest level, so the coarse levels help little.
+   - point-block Jacobi below. GAMG on the hanging sheet: 1.4x point-block Jacobi's wall time at 65 x 65, about the
+     same at 129 x 129, 1.8-1.9x less at 257 x 257. */
+#define CLOTH_PC_GRID_MIN_PARTICLES 2500
 #define CLOTH_PC_MULTILEVEL_MIN_PARTICLES 40000
 
 /* The default -implicit_pc_lag_ratio: a lagged hierarchy is refreshed once a solve takes 20 % more iterations than after
@@ -12,22 +19,35 @@
    129 x 129, for about 10 % more iterations. */
 #define CLOTH_PC_DEFAULT_LAG_RATIO 1.2
 
+/* Pattern-grid multigrid (-pc_type mg): coarsened until a level has at most this many particles, whose system is
+   then factored directly (PCMG's coarse solve: LU, redundant on every rank). */
+#define CLOTH_PC_GRID_COARSE_PARTICLES 1000
+
+/* Pattern-grid multigrid: the default coarsening ratio. Measured on the hanging sheet, 1 rank (iterations a step,
+   wall time relative to ratio 2): 129 x 129: ratio 2: 7.4, 1; 3: 8.8, 0.91; 4: 9.4, 0.84; 257 x 257 (ratio 3 = 1):
+   3: 6.5, 1; 4: 8.0, 0.89; 5: 9.9, 0.94. A larger ratio makes the coarse levels far smaller (1/16 of the particles
+   at ratio 4) for a few more iterations. */
+#define CLOTH_PC_GRID_DEFAULT_RATIO 4
+
 /* A solve this many iterations or fewer never triggers a refresh: at such counts a ratio is noise. */
 #define CLOTH_PC_MIN_ITERATIONS 4
 
 struct _n_ClothPreconditioner {
-  KSP           ksp;      /* borrowed */
-  PetscBool     kept;     /* the preconditioner is kept between steps (multilevel types) */
-  PetscBool     copy_aij; /* it is built from an AIJ copy P of the (block) matrix */
-  PetscReal     lag_ratio, rebuild_ratio;
-  PetscBool     rigid_body; /* near-null space: the six rigid-body modes (else the three translations) */
-  Mat           A;          /* the matrix of the last Prepare (borrowed: a new one means a new pattern) */
-  Mat           P;          /* the AIJ copy (copy_aij) */
-  Vec           coords;     /* positions in the layout of A, for the rigid-body modes */
-  PetscReal     h;          /* step size of the last refresh or rebuild */
-  ClothPCUpdate pending, last;
-  PetscInt      its_rebuilt, its_refreshed; /* iterations of the first solve after the last rebuild / refresh */
-  PetscInt      count[3];                   /* solves per ClothPCUpdate */
+  KSP                ksp;      /* borrowed */
+  Cloth              cloth;    /* borrowed */
+  ClothGridHierarchy grid;     /* the pattern-grid levels of -pc_type mg, else NULL */
+  Mat               *coarse;   /* their operators, coarse[l] of level l < nlevels - 1 */
+  PetscBool          kept;     /* the preconditioner is kept between steps (multilevel types) */
+  PetscBool          copy_aij; /* it is built from an AIJ copy P of the (block) matrix */
+  PetscReal          lag_ratio, rebuild_ratio;
+  PetscBool          rigid_body; /* near-null space: the six rigid-body modes (else the three translations) */
+  Mat                A;          /* the matrix of the last Prepare (borrowed: a new one means a new pattern) */
+  Mat                P;          /* the AIJ copy (copy_aij) */
+  Vec                coords;     /* positions in the layout of A, for the rigid-body modes */
+  PetscReal          h;          /* step size of the last refresh or rebuild */
+  ClothPCUpdate      pending, last;
+  PetscInt           its_rebuilt, its_refreshed; /* iterations of the first solve after the last rebuild / refresh */
+  PetscInt           count[3];                   /* solves per ClothPCUpdate */
 };
 
 /* Puts name=value in the options database unless the user gave name: defaults of objects that PCGAMG creates during
@@ -45,10 +65,26 @@ static PetscErrorCode SetDefaultOption(const char prefix[], const char name[], c
 }
 
 /* The smoother chosen by measurement (docs/performance.md): Chebyshev (symmetric, so CG applies) on point-block
-   Jacobi (a particle's 3x3 block at once), its eigenvalue bounds those of the smoothed prolongator, widened by
-   10 %. SOR smooths better per sweep but costs two MatMults on AIJ. The threshold drops weak couplings (bending
-   against stretch) from the aggregation graph. */
-static PetscErrorCode SetGAMGDefaults(KSP ksp)
+   Jacobi (a particle's 3x3 block at once), on the upper 90 % of its estimated spectrum, widened by 10 %. SOR smooths
+   better per sweep but costs two MatMults on AIJ. The same for GAMG and the pattern-grid multigrid. */
+/* GAMG's defaults, unless given as options: a threshold that drops weak couplings (bending against stretch) from the
+   aggregation graph, and aggregates kept over steps (ClothPreconditionerPrepare decides when to rebuild them). */
+static PetscErrorCode SetGAMGDefaults(PC pc)
+{
+  const char *prefix;
+  PetscBool   set;
+  PetscReal   threshold = 0.01;
+
+  PetscFunctionBeginUser;
+  PetscCall(PCGetOptionsPrefix(pc, &prefix));
+  PetscCall(PetscOptionsHasName(NULL, prefix, "-pc_gamg_threshold", &set));
+  if (!set) PetscCall(PCGAMGSetThreshold(pc, &threshold, 1));
+  PetscCall(PetscOptionsHasName(NULL, prefix, "-pc_gamg_reuse_interpolation", &set));
+  if (!set) PetscCall(PCGAMGSetReuseInterpolation(pc, PETSC_TRUE));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode SetMultigridSmootherDefaults(KSP ksp)
 {
   const char *prefix;
 
@@ -60,31 +96,72 @@ static PetscErrorCode SetGAMGDefaults(KSP ksp)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode ClothPreconditionerCreate(KSP ksp, PetscInt nparticles, ClothPreconditioner *pre)
+PetscErrorCode ClothPreconditionerCreate(KSP ksp, Cloth cloth, ClothPreconditioner *pre)
 {
   ClothPreconditioner p;
   PC                  pc;
-  PetscReal           threshold     = 0.01;
-  PetscInt            min_particles = CLOTH_PC_MULTILEVEL_MIN_PARTICLES;
+  PetscInt            min_particles = CLOTH_PC_MULTILEVEL_MIN_PARTICLES, grid_min_particles = CLOTH_PC_GRID_MIN_PARTICLES, nparticles;
+  ClothLayout         layout;
 
   PetscFunctionBeginUser;
+  PetscCall(ClothGetSizes(cloth, NULL, &nparticles));
+  PetscCall(ClothGetLayout(cloth, &layout));
   PetscCall(PetscNew(&p));
   p->ksp           = ksp;
+  p->cloth         = cloth;
   p->lag_ratio     = CLOTH_PC_DEFAULT_LAG_RATIO;
   p->rebuild_ratio = 1.5;
   p->pending       = CLOTH_PC_REBUILD;
   p->h             = -1;
   PetscOptionsBegin(PetscObjectComm((PetscObject)ksp), NULL, "Implicit solve: default preconditioner", "ClothPreconditioner");
-  PetscCall(PetscOptionsInt("-implicit_pc_multilevel_min_particles", "Default preconditioner: GAMG from this many particles on, point-block Jacobi below (-pc_type overrides)", "ClothPreconditionerCreate", min_particles, &min_particles, NULL));
+  PetscCall(PetscOptionsInt("-implicit_pc_grid_min_particles", "Default preconditioner of a scene without seams: the pattern-grid multigrid (mg) from this many particles on, point-block Jacobi below (-pc_type overrides)", "ClothPreconditionerCreate",
+                            grid_min_particles, &grid_min_particles, NULL));
+  PetscCall(PetscOptionsInt("-implicit_pc_multilevel_min_particles", "Default preconditioner of a garment (a scene with seams): GAMG from this many particles on, point-block Jacobi below (-pc_type overrides)", "ClothPreconditionerCreate",
+                            min_particles, &min_particles, NULL));
   PetscOptionsEnd();
   PetscCall(KSPGetPC(ksp, &pc));
-  if (nparticles >= min_particles) {
+  if (layout.model->nseamlinks == 0 && nparticles >= grid_min_particles)
+    PetscCall(PCSetType(pc, PCMG));
+  else if (nparticles >= min_particles)
     PetscCall(PCSetType(pc, PCGAMG));
-    PetscCall(PCGAMGSetThreshold(pc, &threshold, 1));
-    PetscCall(PCGAMGSetReuseInterpolation(pc, PETSC_TRUE));
-  } else
+  else
     PetscCall(PCSetType(pc, PCPBJACOBI));
   *pre = p;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* -pc_type mg: the levels of the pattern grids (gridhierarchy.h), coarse operators by Galerkin products. */
+static PetscErrorCode SetUpGridMultigrid(ClothPreconditioner pre, PC pc)
+{
+  PetscInt max_levels = CLOTH_GRID_MAX_LEVELS, coarse_particles = CLOTH_PC_GRID_COARSE_PARTICLES, ratio = CLOTH_PC_GRID_DEFAULT_RATIO, nlevels;
+  KSP      smoother;
+
+  PetscFunctionBeginUser;
+  PetscOptionsBegin(PetscObjectComm((PetscObject)pc), NULL, "Implicit solve: pattern-grid multigrid (-pc_type mg)", "ClothPreconditioner");
+  PetscCall(PetscOptionsInt("-implicit_pc_grid_ratio", "Pattern-grid multigrid: keep every ratio-th row and column of each piece on the next coarser level", "ClothGridHierarchyCreate", ratio, &ratio, NULL));
+  PetscCall(PetscOptionsInt("-implicit_pc_grid_levels", "Pattern-grid multigrid: at most this many levels, the cloth included", "ClothGridHierarchyCreate", max_levels, &max_levels, NULL));
+  PetscCall(PetscOptionsInt("-implicit_pc_grid_coarse_particles", "Pattern-grid multigrid: coarsen until a level has at most this many particles (solved directly)", "ClothGridHierarchyCreate", coarse_particles, &coarse_particles, NULL));
+  PetscOptionsEnd();
+  PetscCheck(max_levels >= 1 && max_levels <= CLOTH_GRID_MAX_LEVELS, PetscObjectComm((PetscObject)pc), PETSC_ERR_USER_INPUT, "-implicit_pc_grid_levels %" PetscInt_FMT ": expected 1 to %d", max_levels, CLOTH_GRID_MAX_LEVELS);
+  PetscCheck(coarse_particles >= 1, PetscObjectComm((PetscObject)pc), PETSC_ERR_USER_INPUT, "-implicit_pc_grid_coarse_particles %" PetscInt_FMT ": expected a positive count", coarse_particles);
+  PetscCheck(ratio >= 2, PetscObjectComm((PetscObject)pc), PETSC_ERR_USER_INPUT, "-implicit_pc_grid_ratio %" PetscInt_FMT ": expected 2 or more", ratio);
+  PetscCall(ClothGridHierarchyCreate(pre->cloth, ratio, max_levels, coarse_particles, &pre->grid));
+  PetscCall(ClothGridHierarchyGetLevels(pre->grid, &nlevels));
+  PetscCall(PCMGSetLevels(pc, nlevels, NULL));
+  for (PetscInt l = 1; l < nlevels; l++) {
+    Mat P;
+    PetscCall(ClothGridHierarchyGetInterpolation(pre->grid, l, &P));
+    PetscCall(PCMGSetInterpolation(pc, l, P));
+  }
+  /* The coarse operators are Galerkin products of the AIJ copy, made here (RefreshGridOperators): PCMG's own products
+     would also be taken of the block matrix, which MatPtAP does not support, when the finest level streams it. */
+  PetscCall(PCMGSetGalerkin(pc, PC_MG_GALERKIN_NONE));
+  PetscCall(PetscCalloc1(nlevels, &pre->coarse));
+  /* the levels' solvers exist only now: they read their -mg_levels_ and -mg_coarse_ options here */
+  for (PetscInt l = 0; l < nlevels; l++) {
+    PetscCall(PCMGGetSmoother(pc, l, &smoother));
+    PetscCall(KSPSetFromOptions(smoother));
+  }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -96,13 +173,16 @@ PetscErrorCode ClothPreconditionerSetFromOptions(ClothPreconditioner pre)
 
   PetscFunctionBeginUser;
   PetscCall(KSPGetPC(pre->ksp, &pc));
-  PetscCall(PetscObjectTypeCompareAny((PetscObject)pc, &multilevel, PCGAMG, PCML, PCHYPRE, ""));
+  PetscCall(PetscObjectTypeCompareAny((PetscObject)pc, &multilevel, PCGAMG, PCML, PCHYPRE, PCMG, ""));
   pre->kept     = multilevel;
   pre->copy_aij = multilevel;
   if (multilevel) {
-    PetscBool gamg;
+    PetscBool gamg, mg;
     PetscCall(PetscObjectTypeCompare((PetscObject)pc, PCGAMG, &gamg));
-    if (gamg) PetscCall(SetGAMGDefaults(pre->ksp));
+    PetscCall(PetscObjectTypeCompare((PetscObject)pc, PCMG, &mg));
+    if (gamg || mg) PetscCall(SetMultigridSmootherDefaults(pre->ksp));
+    if (gamg) PetscCall(SetGAMGDefaults(pc));
+    if (mg) PetscCall(SetUpGridMultigrid(pre, pc));
   }
   PetscOptionsBegin(PetscObjectComm((PetscObject)pre->ksp), NULL, "Implicit solve: multilevel preconditioner", "ClothPreconditioner");
   PetscCall(PetscOptionsReal("-implicit_pc_lag_ratio", "Keep a multilevel preconditioner over steps until a solve takes more than this times the iterations after its last refresh (0: refresh every step)", "ClothPreconditionerSolved", pre->lag_ratio,
@@ -139,13 +219,15 @@ static PetscErrorCode SetRigidBodyModes(ClothPreconditioner pre, Mat P, Vec x)
 }
 
 /* Whether the next set-up keeps the aggregates and interpolation of the last one. PCGAMG decides that itself from its
-   reuse flag; other multilevel types are reset for a rebuild. */
+   reuse flag; the pattern grids' interpolation never changes (a rebuild is a refresh); other multilevel types are reset
+   for a rebuild. */
 static PetscErrorCode SetReuseInterpolation(ClothPreconditioner pre, PetscBool reuse)
 {
   PC        pc;
   PetscBool gamg;
 
   PetscFunctionBeginUser;
+  if (pre->grid) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(KSPGetPC(pre->ksp, &pc));
   PetscCall(PetscObjectTypeCompare((PetscObject)pc, PCGAMG, &gamg));
   if (gamg)
@@ -175,6 +257,28 @@ static PetscErrorCode SmoothFinestLevelWith(ClothPreconditioner pre, Mat A, Mat 
   if (nlevels < 2) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(PCMGGetSmoother(pc, nlevels - 1, &smoother));
   PetscCall(KSPSetOperators(smoother, A, P));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The pattern-grid levels' operators, from the finest level's AIJ matrix P down: P_l^T B_l P_l, the storage of the
+   products kept (their symbolic part is done once per nonzero pattern of A). The finest level's residual is A's. */
+static PetscErrorCode RefreshGridOperators(ClothPreconditioner pre, PC pc, Mat A, Mat P, PetscBool new_pattern)
+{
+  PetscInt nlevels;
+  Mat      fine = P, interpolation;
+  KSP      smoother;
+
+  PetscFunctionBeginUser;
+  PetscCall(ClothGridHierarchyGetLevels(pre->grid, &nlevels));
+  for (PetscInt l = nlevels - 1; l > 0; l--) {
+    if (new_pattern) PetscCall(MatDestroy(&pre->coarse[l - 1]));
+    PetscCall(ClothGridHierarchyGetInterpolation(pre->grid, l, &interpolation));
+    PetscCall(MatPtAP(fine, interpolation, pre->coarse[l - 1] ? MAT_REUSE_MATRIX : MAT_INITIAL_MATRIX, PETSC_DEFAULT, &pre->coarse[l - 1]));
+    PetscCall(PCMGGetSmoother(pc, l - 1, &smoother));
+    PetscCall(KSPSetOperators(smoother, pre->coarse[l - 1], pre->coarse[l - 1]));
+    fine = pre->coarse[l - 1];
+  }
+  if (nlevels > 1) PetscCall(PCMGSetResidual(pc, nlevels - 1, PCMGResidualDefault, A));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -218,6 +322,11 @@ PetscErrorCode ClothPreconditionerPrepare(ClothPreconditioner pre, Mat A, Vec x,
   if (u == CLOTH_PC_REBUILD) {
     PetscCall(SetReuseInterpolation(pre, PETSC_FALSE)); /* new aggregates and interpolation, not only coarse operators */
     PetscCall(SetRigidBodyModes(pre, P, x));
+  }
+  if (pre->grid && u != CLOTH_PC_LAG) {
+    PC pc;
+    PetscCall(KSPGetPC(pre->ksp, &pc));
+    PetscCall(RefreshGridOperators(pre, pc, A, P, A != pre->A ? PETSC_TRUE : PETSC_FALSE));
   }
   PetscCall(KSPSetOperators(pre->ksp, A, P));
   PetscCall(KSPSetReusePreconditioner(pre->ksp, u == CLOTH_PC_LAG ? PETSC_TRUE : PETSC_FALSE));
@@ -278,6 +387,7 @@ PetscErrorCode ClothPreconditionerView(ClothPreconditioner pre, PetscViewer view
   if (!pre->kept) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(PetscViewerASCIIPrintf(viewer, "Preconditioner kept between solves (lag ratio %g, rebuild ratio %g): %" PetscInt_FMT " rebuilt, %" PetscInt_FMT " refreshed, %" PetscInt_FMT " lagged\n", (double)pre->lag_ratio, (double)pre->rebuild_ratio,
                                    pre->count[CLOTH_PC_REBUILD], pre->count[CLOTH_PC_REFRESH], pre->count[CLOTH_PC_LAG]));
+  if (pre->grid) PetscCall(ClothGridHierarchyView(pre->grid, viewer));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -287,6 +397,13 @@ PetscErrorCode ClothPreconditionerDestroy(ClothPreconditioner *pre)
   if (!*pre) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(MatDestroy(&(*pre)->P));
   PetscCall(VecDestroy(&(*pre)->coords));
+  if ((*pre)->grid) {
+    PetscInt nlevels;
+    PetscCall(ClothGridHierarchyGetLevels((*pre)->grid, &nlevels));
+    for (PetscInt l = 0; l < nlevels; l++) PetscCall(MatDestroy(&(*pre)->coarse[l]));
+    PetscCall(PetscFree((*pre)->coarse));
+  }
+  PetscCall(ClothGridHierarchyDestroy(&(*pre)->grid));
   PetscCall(PetscFree(*pre));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -1,13 +1,15 @@
 /* ClothPreconditioner: keeps the implicit solve's preconditioner up to date at the least cost.
 
-   The default preconditioner of large systems is smoothed-aggregation multigrid (PCGAMG): its Krylov iteration count
+   The default preconditioner of large systems is multigrid: on the pattern pieces' own grids (PCMG with the levels of
+   gridhierarchy.h) for a scene without seams, smoothed aggregation (PCGAMG) for a garment. Its Krylov iteration count
    does not grow with the sheet's size, as point-block Jacobi's does (docs/performance.md). Its set-up costs several
    solves, so not all of it is redone every step:
 
    - lag:     the coarse levels of an earlier step are used as they are; the operator and the finest level's smoother
               (its point-block diagonal and Chebyshev bounds) are always the current matrix's;
    - refresh: the coarse operators (Galerkin products), smoothers and point-block diagonals are recomputed from
-              the current matrix, the aggregates and interpolation are kept;
+              the current matrix, the aggregates and interpolation are kept (the pattern grids' interpolation is
+              geometric and never changes: for them a rebuild is a refresh);
    - rebuild: everything (with -implicit_pc_rigid_body_modes, the rigid-body modes at the current positions as the
               near-null space; by default the three translations).
 
@@ -17,7 +19,7 @@
    -implicit_pc_rebuild_ratio times the iterations after the last rebuild (the sheet has moved so far that the
    aggregates no longer fit). A new matrix (new nonzero pattern) and
    ClothPreconditionerRequestRebuild force a rebuild, a change of the step size (a halved step) a refresh.
-   GAMG needs a scalar (AIJ) matrix; when the implicit matrix is BAIJ or SBAIJ, the preconditioner is built from
+   GAMG and the Galerkin products need a scalar (AIJ) matrix; when the implicit matrix is BAIJ or SBAIJ, the preconditioner is built from
    an AIJ copy made only when it is refreshed or rebuilt, while the Krylov method and the finest smoother stream
    the block matrix itself (PCSetUseAmat).
 
@@ -25,16 +27,17 @@
 #pragma once
 #include <petscksp.h>
 #include "util.h"
+#include "cloth.h"
 
 typedef struct _n_ClothPreconditioner *ClothPreconditioner;
 
 /* What ClothPreconditionerPrepare did to the preconditioner (in increasing cost). */
 typedef enum { CLOTH_PC_LAG, CLOTH_PC_REFRESH, CLOTH_PC_REBUILD } ClothPCUpdate;
 
-/* Manages the preconditioner of ksp (borrowed) for a system of nparticles particles. Call before
+/* Manages the preconditioner of ksp (borrowed) for the implicit system of cloth (borrowed, set up). Call before
    KSPSetFromOptions(ksp): it sets the default preconditioner, GAMG for large systems (-implicit_pc_multilevel_min_particles),
    point-block Jacobi for small ones, where a multilevel set-up costs more than it saves. */
-PetscErrorCode ClothPreconditionerCreate(KSP ksp, PetscInt nparticles, ClothPreconditioner *pre);
+PetscErrorCode ClothPreconditionerCreate(KSP ksp, Cloth cloth, ClothPreconditioner *pre);
 /* -implicit_pc_lag_ratio; call after KSPSetFromOptions(ksp), when the preconditioner type is known. */
 PetscErrorCode ClothPreconditionerSetFromOptions(ClothPreconditioner pre);
 /* Before a solve with A at step size h and particle positions x (solver numbering, block size 3 layout of A):

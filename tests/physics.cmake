@@ -37,10 +37,22 @@ clothsim_add_mpi_test(hanging_sheet_rest_explicit 1 $<TARGET_FILE:test_run_to_re
 # A breaking-down preconditioner (ICC(0) on large steps) is replaced by the fallback solver for that solve.
 clothsim_add_script_test(implicit_pc_fallback check_pc_fallback.sh ${MPIEXEC_EXECUTABLE} ${CMAKE_CURRENT_BINARY_DIR}/implicit_pc_fallback)
 
-# The multilevel implicit solve (tests/check_multilevel_solver.sh, 1 rank): GAMG's Krylov iterations per step at most 16
-# at 65 x 65 and 129 x 129 and flat in the size (129 at most 1.5 x 65), the same answer as point-block Jacobi to 1e-8 m
-# at rtol 1e-9, and the size-dependent default preconditioner.
+# The multilevel implicit solves (tests/check_multilevel_solver.sh, 1 rank): the pattern-grid multigrid's and GAMG's
+# Krylov iterations per step at most 12 and 16 at 65 x 65 and 129 x 129 and flat in the size (129 at most 1.5 x 65),
+# the same answer as point-block Jacobi to 1e-8 m at rtol 1e-9, restarts bit for bit, and the default preconditioner
+# by size and seams. About 40 s on an idle machine.
 clothsim_add_script_test(implicit_multilevel_solver check_multilevel_solver.sh ${MPIEXEC_EXECUTABLE} ${CMAKE_CURRENT_BINARY_DIR}/implicit_multilevel_solver)
+
+# The pattern-grid multigrid's levels (tests/test_gridhierarchy.c): level sizes from the scene's grids, rows of every
+# interpolation summing to 1, a field linear in the grid indices in the range of every level's interpolation (relative
+# residual <= 1e-10, measured <= 3e-15), a quadratic one not (>= 1e-3, measured >= 8.7e-3); two pieces of 9 x 9 and 9 x 13 at ratios 2 and 4, a 39 x 39
+# sheet at ratio 4 (its second coarsening interpolates inside a shorter last interval: 32, 36, 38), on 1 and 3 ranks. About 1 s each.
+clothsim_add_test_program(test_gridhierarchy test_gridhierarchy.c)
+foreach(np 1 3)
+  clothsim_add_mpi_test(grid_hierarchy_two_pieces_r2_np${np} ${np} $<TARGET_FILE:test_gridhierarchy> -scene tests/data/seam_two_pieces.yaml -ratio 2)
+  clothsim_add_mpi_test(grid_hierarchy_two_pieces_r4_np${np} ${np} $<TARGET_FILE:test_gridhierarchy> -scene tests/data/seam_two_pieces.yaml -ratio 4)
+  clothsim_add_mpi_test(grid_hierarchy_sheet39_r4_np${np} ${np} $<TARGET_FILE:test_gridhierarchy> -scene tests/data/free_sheet.yaml -grid 39 -ratio 4)
+endforeach()
 
 # Bending hysteresis on a clamped strip loaded quasi-statically (tests/bend_hysteresis.sh, 2 ranks): tip deflection
 # on the loading branch M = B K + HB within 1 % (measured -0.16 %; without HB -0.24 %), restart bit-identical
