@@ -15,7 +15,8 @@
 
    Which one is decided by the iteration count: with -implicit_pc_lag_ratio r > 0 a step refreshes when the last solve
    took more than r times the iterations of the first solve after the last refresh (default 1.2, measured best of
-   0 (every step refreshes), 1.15, 1.2, 1.3, 1.6 and 2.5: docs/performance.md); a refresh is followed by a rebuild when its solve took more than
+   0 (every step refreshes), 1.15, 1.2, 1.3, 1.6 and 2.5: docs/performance.md), and after at most
+   -implicit_pc_lag_max lagged solves in a row (default 2); a refresh is followed by a rebuild when its solve took more than
    -implicit_pc_rebuild_ratio times the iterations after the last rebuild (the sheet has moved so far that the
    aggregates no longer fit). A new matrix (new nonzero pattern) and
    ClothPreconditionerRequestRebuild force a rebuild, a change of the step size (a halved step) a refresh.

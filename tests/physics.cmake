@@ -45,12 +45,15 @@ clothsim_add_script_test(implicit_multilevel_solver check_multilevel_solver.sh $
 
 # The pattern-grid multigrid's levels (tests/test_gridhierarchy.c): level sizes from the scene's grids, rows of every
 # interpolation summing to 1, a field linear in the grid indices in the range of every level's interpolation (relative
-# residual <= 1e-10, measured <= 3e-15), a quadratic one not (>= 1e-3, measured >= 8.7e-3); two pieces of 9 x 9 and 9 x 13 at ratios 2 and 4, a 39 x 39
-# sheet at ratio 4 (its second coarsening interpolates inside a shorter last interval: 32, 36, 38), on 1 and 3 ranks. About 1 s each.
+# residual <= 1e-10, measured <= 3e-15), a quadratic one not (>= 1e-3, measured >= 8.7e-3); the three small pieces of
+# jacobian_two_pieces.yaml at ratios 2 and 4, a 39 x 39
+# sheet at ratio 4 (its second coarsening interpolates inside a shorter last interval: 32, 36, 38); with pins
+# (seam_two_pieces.yaml, one piece pinned whole) the coarse space vanishes on them. 1 and 3 ranks, about 1 s each.
 clothsim_add_test_program(test_gridhierarchy test_gridhierarchy.c)
 foreach(np 1 3)
-  clothsim_add_mpi_test(grid_hierarchy_two_pieces_r2_np${np} ${np} $<TARGET_FILE:test_gridhierarchy> -scene tests/data/seam_two_pieces.yaml -ratio 2)
-  clothsim_add_mpi_test(grid_hierarchy_two_pieces_r4_np${np} ${np} $<TARGET_FILE:test_gridhierarchy> -scene tests/data/seam_two_pieces.yaml -ratio 4)
+  clothsim_add_mpi_test(grid_hierarchy_three_pieces_r2_np${np} ${np} $<TARGET_FILE:test_gridhierarchy> -scene tests/data/jacobian_two_pieces.yaml -ratio 2)
+  clothsim_add_mpi_test(grid_hierarchy_three_pieces_r4_np${np} ${np} $<TARGET_FILE:test_gridhierarchy> -scene tests/data/jacobian_two_pieces.yaml -ratio 4)
+  clothsim_add_mpi_test(grid_hierarchy_pinned_np${np} ${np} $<TARGET_FILE:test_gridhierarchy> -scene tests/data/seam_two_pieces.yaml -ratio 4 -pinned)
   clothsim_add_mpi_test(grid_hierarchy_sheet39_r4_np${np} ${np} $<TARGET_FILE:test_gridhierarchy> -scene tests/data/free_sheet.yaml -grid 39 -ratio 4)
 endforeach()
 

@@ -9,6 +9,9 @@
        where the last, shorter intervals of a grid weigh by the cloth's indices, not the level's.
    (4) A field quadratic in the grid indices (the squared positions) is not reproduced: relative residual above 1e-3
        on the first level (measured 0.02-0.2): the check in (3) can fail.
+   (5) With -pinned (a scene with pinned particles; (2)-(4) then do not apply): the coarse space vanishes on pins. On
+       the finest interpolation a pinned particle's row is empty or a single 1 (it is a coarse particle itself), and no
+       free particle's row reaches a coarse particle that sits on a pin.
    The interpolation must not depend on the partition: run on 1 and 3 ranks, the sizes and checks are the same. */
 #include <petscksp.h>
 #include "test_support.h"
@@ -97,6 +100,45 @@ static PetscErrorCode CentredSquares(Vec x, Vec out)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* (5): P's rows of the cloth's pinned particles and the coarse columns they reach. */
+static PetscErrorCode CheckPinned(Cloth cloth, Mat P, PetscInt *npinned_rows)
+{
+  ClothLayout        layout;
+  PetscInt           rstart, rend, ncols, ncoarse, *pinned_column, bad = 0, found = 0;
+  const PetscInt    *cols;
+  const PetscScalar *vals;
+  PetscInt          *all;
+
+  PetscFunctionBeginUser;
+  PetscCall(ClothGetLayout(cloth, &layout));
+  PetscCall(MatGetOwnershipRange(P, &rstart, &rend));
+  PetscCall(MatGetSize(P, NULL, &ncoarse));
+  PetscCall(PetscCalloc1(ncoarse, &pinned_column));
+  for (PetscInt row = rstart; row < rend; row++) {
+    if (!layout.fixed[row / 3 - layout.rstart]) continue;
+    found++;
+    PetscCall(MatGetRow(P, row, &ncols, &cols, &vals));
+    if (ncols > 1 || (ncols == 1 && PetscAbsScalar(vals[0] - 1) > 0)) bad++;
+    for (PetscInt k = 0; k < ncols; k++) pinned_column[cols[k]] = 1;
+    PetscCall(MatRestoreRow(P, row, &ncols, &cols, &vals));
+  }
+  PetscCall(PetscMalloc1(ncoarse, &all));
+  PetscCallMPI(MPIU_Allreduce(pinned_column, all, ncoarse, MPIU_INT, MPI_MAX, layout.comm));
+  for (PetscInt row = rstart; row < rend; row++) {
+    if (layout.fixed[row / 3 - layout.rstart]) continue;
+    PetscCall(MatGetRow(P, row, &ncols, &cols, &vals));
+    for (PetscInt k = 0; k < ncols; k++)
+      if (all[cols[k]]) bad++;
+    PetscCall(MatRestoreRow(P, row, &ncols, &cols, &vals));
+  }
+  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &bad, 1, MPIU_INT, MPI_SUM, layout.comm));
+  PetscCallMPI(MPIU_Allreduce(&found, npinned_rows, 1, MPIU_INT, MPI_SUM, layout.comm));
+  PetscCheck(bad == 0, layout.comm, PETSC_ERR_PLIB, "%" PetscInt_FMT " entries of the interpolation mix pinned and free particles", bad);
+  PetscCall(PetscFree(pinned_column));
+  PetscCall(PetscFree(all));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 int main(int argc, char **argv)
 {
   Scene              scene;
@@ -105,9 +147,11 @@ int main(int argc, char **argv)
   PetscInt           ratio = 2, nlevels, n, expected, levels_expected = 1;
   Vec                x, v, f, fsq, c;
   PetscReal          err, rel, relsq;
+  PetscBool          pinned = PETSC_FALSE;
 
   PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
   PetscCall(PetscOptionsGetInt(NULL, NULL, "-ratio", &ratio, NULL));
+  PetscCall(PetscOptionsGetBool(NULL, NULL, "-pinned", &pinned, NULL));
   PetscCall(TestClothFromOptions(&scene, &cloth));
   PetscCall(ClothGridHierarchyCreate(cloth, ratio, CLOTH_GRID_MAX_LEVELS, 1, &gh));
   PetscCall(ClothGridHierarchyView(gh, PETSC_VIEWER_STDOUT_WORLD));
@@ -120,6 +164,19 @@ int main(int argc, char **argv)
     PetscCheck(n == expected, PETSC_COMM_WORLD, PETSC_ERR_PLIB, "level %" PetscInt_FMT ": %" PetscInt_FMT " particles, expected %" PetscInt_FMT, l, n, expected);
   }
 
+  if (pinned) {
+    Mat      P;
+    PetscInt rows;
+    PetscCall(ClothGridHierarchyGetInterpolation(gh, nlevels - 1, &P));
+    PetscCall(CheckPinned(cloth, P, &rows));
+    PetscCheck(rows > 0, PETSC_COMM_WORLD, PETSC_ERR_PLIB, "-pinned: the scene has no pinned particles");
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%" PetscInt_FMT " rows of pinned particles: the coarse space vanishes on them\n", rows / 3));
+    PetscCall(ClothGridHierarchyDestroy(&gh));
+    PetscCall(ClothDestroy(&cloth));
+    PetscCall(SceneDestroy(&scene));
+    PetscCall(PetscFinalize());
+    return 0;
+  }
   PetscCall(ClothGetState(cloth, &x, &v));
   PetscCall(VecDuplicate(x, &f));
   PetscCall(VecCopy(x, f));
