@@ -2,8 +2,9 @@
 # The implicit solver study (issue 22) in one command, side by side in one session on the hanging sheet
 # (jobs/bench.sh: 1 m square, pinned at two corners, dt = 1/240 s):
 #   earlier_default  CG + point-block Jacobi at every size (the default until 2026-11-25);
-#   default          today's default: point-block Jacobi below 40,000 particles, GAMG from 40,000 on;
-#   gamg             GAMG forced at every size;
+#   default          today's default: point-block Jacobi below 2,500 particles, the pattern-grid multigrid from 2,500
+#                    on (the sheet has no seams);
+#   gamg             GAMG forced at every size (the default of sheets from 40,000 particles until 2026-11-25 evening);
 # and, when its environment exists (bash ../shared/peers/setup.sh newton, beside a checkout that has it), Newton's
 # semi-implicit peer at 65 and 129; then the main job (the dress, 2 ranks) with the projected and with the
 # Gauss-Newton element stiffness (jobs/results/bench/dress_*.log, -log_view). Writes jobs/results/bench/bench.csv (appended), bench.png and the table in
@@ -24,7 +25,7 @@ peers=
 
 PEERS= TAG=earlier_default EXTRA="-pc_type pbjacobi" bash jobs/bench.sh
 PEERS= TAG=default EXTRA= bash jobs/bench.sh
-GRIDS="65 129" PEERS=$peers PEER_GRIDS="65 129" TAG=gamg EXTRA="-pc_type gamg" bash jobs/bench.sh
+PEERS=$peers PEER_GRIDS="65 129" TAG=gamg EXTRA="-pc_type gamg" bash jobs/bench.sh
 if [[ -n $large ]]; then
   GRIDS=$large RANKS_LIST=2 PEERS= TAG=default EXTRA= bash jobs/bench.sh
 fi
