@@ -36,6 +36,14 @@
    2 costs nothing measurable against no limit, for the grid multigrid and GAMG alike (within 3 %). */
 #define CLOTH_PC_DEFAULT_LAG_MAX 2
 
+/* The default -implicit_pc_lag_excess and -implicit_pc_lag_pause: a refresh of the 257 x 257 sheet's pattern-grid
+   multigrid (AIJ copy, Galerkin products, coarse smoothers' bounds, coarse factorisation) costs about 9 of its
+   V-cycles (docs/performance.md), so a lagged solve that needs more than 10 extra iterations lost more than it saved;
+   then the next 8 solves refresh. Measured on 513 x 513 over 24 steps (2 ranks): without it, lagged solves took 43-52
+   iterations against 15-19 refreshed ones in the last steps. */
+#define CLOTH_PC_DEFAULT_LAG_EXCESS 10
+#define CLOTH_PC_DEFAULT_LAG_PAUSE 8
+
 /* A solve this many iterations or fewer never triggers a refresh: at such counts a ratio is noise. */
 #define CLOTH_PC_MIN_ITERATIONS 4
 
@@ -55,6 +63,8 @@ struct _n_ClothPreconditioner {
   ClothPCUpdate      pending, last;
   PetscInt           its_rebuilt, its_refreshed; /* iterations of the first solve after the last rebuild / refresh */
   PetscInt           lag_max, lagged;            /* at most lag_max lagged solves in a row; lagged since the last refresh */
+  PetscInt           lag_excess, lag_pause;      /* a lag that cost more extra iterations stops lagging for lag_pause solves */
+  PetscInt           paused;                     /* solves left without lagging */
   PetscInt           count[3];                   /* solves per ClothPCUpdate */
 };
 
@@ -120,6 +130,8 @@ PetscErrorCode ClothPreconditionerCreate(KSP ksp, Cloth cloth, ClothPrecondition
   p->lag_ratio     = CLOTH_PC_DEFAULT_LAG_RATIO;
   p->rebuild_ratio = 1.5;
   p->lag_max       = CLOTH_PC_DEFAULT_LAG_MAX;
+  p->lag_excess    = CLOTH_PC_DEFAULT_LAG_EXCESS;
+  p->lag_pause     = CLOTH_PC_DEFAULT_LAG_PAUSE;
   p->pending       = CLOTH_PC_REBUILD;
   p->h             = -1;
   PetscOptionsBegin(PetscObjectComm((PetscObject)ksp), NULL, "Implicit solve: default preconditioner", "ClothPreconditioner");
@@ -197,6 +209,9 @@ PetscErrorCode ClothPreconditionerSetFromOptions(ClothPreconditioner pre)
   PetscCall(PetscOptionsReal("-implicit_pc_lag_ratio", "Keep a multilevel preconditioner over steps until a solve takes more than this times the iterations after its last refresh (0: refresh every step)", "ClothPreconditionerSolved", pre->lag_ratio,
                              &pre->lag_ratio, NULL));
   PetscCall(PetscOptionsInt("-implicit_pc_lag_max", "Refresh a multilevel preconditioner after at most this many lagged solves in a row", "ClothPreconditionerSolved", pre->lag_max, &pre->lag_max, NULL));
+  PetscCall(PetscOptionsInt("-implicit_pc_lag_excess", "A lagged solve that takes more than this many iterations beyond the last refreshed one stops lagging for -implicit_pc_lag_pause solves", "ClothPreconditionerSolved", pre->lag_excess,
+                            &pre->lag_excess, NULL));
+  PetscCall(PetscOptionsInt("-implicit_pc_lag_pause", "Solves refreshed in a row after a lag that cost more than -implicit_pc_lag_excess iterations", "ClothPreconditionerSolved", pre->lag_pause, &pre->lag_pause, NULL));
   PetscCall(PetscOptionsReal("-implicit_pc_rebuild_ratio", "Rebuild the aggregates and interpolation when a refreshed preconditioner takes more than this times the iterations after the last rebuild", "ClothPreconditionerSolved", pre->rebuild_ratio,
                              &pre->rebuild_ratio, NULL));
   PetscCall(PetscOptionsBool("-implicit_pc_rigid_body_modes", "Near-null space of the multilevel preconditioner: the six rigid-body modes at the current positions (false: the three translations)", "ClothPreconditionerPrepare", pre->rigid_body,
@@ -205,6 +220,8 @@ PetscErrorCode ClothPreconditionerSetFromOptions(ClothPreconditioner pre)
   PetscCheck(pre->lag_ratio == 0 || (pre->lag_ratio >= 1 && PetscIsNormalReal(pre->lag_ratio)), PetscObjectComm((PetscObject)pre->ksp), PETSC_ERR_USER_INPUT, "-implicit_pc_lag_ratio %g: expected 0 (refresh every step) or a finite number >= 1",
              (double)pre->lag_ratio);
   PetscCheck(pre->lag_max >= 1, PetscObjectComm((PetscObject)pre->ksp), PETSC_ERR_USER_INPUT, "-implicit_pc_lag_max %" PetscInt_FMT ": expected a positive count", pre->lag_max);
+  PetscCheck(pre->lag_excess >= 0 && pre->lag_pause >= 0, PetscObjectComm((PetscObject)pre->ksp), PETSC_ERR_USER_INPUT, "-implicit_pc_lag_excess %" PetscInt_FMT ", -implicit_pc_lag_pause %" PetscInt_FMT ": expected counts >= 0", pre->lag_excess,
+             pre->lag_pause);
   PetscCheck(pre->rebuild_ratio >= 1 && PetscIsNormalReal(pre->rebuild_ratio), PetscObjectComm((PetscObject)pre->ksp), PETSC_ERR_USER_INPUT, "-implicit_pc_rebuild_ratio %g: expected a finite number >= 1", (double)pre->rebuild_ratio);
   /* The finest level is smoothed with the block matrix itself (faster MatMult than its AIJ copy). */
   PetscCall(PCGetOptionsPrefix(pc, &prefix));
@@ -375,7 +392,12 @@ PetscErrorCode ClothPreconditionerSolved(ClothPreconditioner pre, PetscInt its)
     break;
   case CLOTH_PC_LAG:
     if (SlowerThan(its, pre->lag_ratio, pre->its_refreshed) || ++pre->lagged >= pre->lag_max) pre->pending = CLOTH_PC_REFRESH;
+    if (its - pre->its_refreshed > pre->lag_excess) pre->paused = pre->lag_pause;
     break;
+  }
+  if (pre->paused > 0 && pre->pending == CLOTH_PC_LAG) {
+    pre->pending = CLOTH_PC_REFRESH;
+    pre->paused--;
   }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
