@@ -295,7 +295,7 @@ static PetscErrorCode AddFrictionToImplicitStep(void *ctx, PetscReal h, Vec velo
     if (normal_force == 0 || (d->friction_static == 0 && d->friction_kinetic == 0)) continue;
     vn = Dot3(&v[3 * i], n);
     for (PetscInt k = 0; k < 3; k++) vt[k] = v[3 * i + k] - vn * n[k];
-    PetscCall(ClothRegularisedFriction(scale * d->friction_static, scale * d->friction_kinetic, normal_force, col->friction_velocity, col->stribeck_velocity, n, vt, ff, D));
+    PetscCall(ClothRegularisedFriction(scale * d->friction_static, scale * d->friction_kinetic, normal_force, col->friction_velocity, col->stribeck_velocity, PETSC_FALSE, n, vt, ff, D));
     for (PetscInt k = 0; k < 3; k++) {
       f[3 * i + k] += ff[k];
       col->vt_start[3 * i + k] = vt[k];

@@ -358,6 +358,13 @@ static PetscErrorCode AddRepulsion(ClothSelfContact sc, Vec position, Vec veloci
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+static PetscReal InverseMass(ClothSelfContact sc, PetscInt natural)
+{
+  const ClothModel m = sc->layout.model;
+
+  return (m->pinned[natural] || m->mass[natural] <= 0) ? 0.0 : 1.0 / m->mass[natural];
+}
+
 /* ------------------------------------------------------------------------------------------------ */
 /* Friction between layers                                                                          */
 
@@ -366,7 +373,12 @@ static PetscErrorCode AddRepulsion(ClothSelfContact sc, Vec position, Vec veloci
    tangential part of the relative velocity of its closest points, v_rel = sum_k a_k v_k, with the repulsion at the
    step's start as its normal force (lagged, as for the bodies) and the cloth's friction scale. Particle k takes
    a_k f, and h a_j a_k S_j D S_k enters the blocks the repulsion already couples: D is symmetric positive semidefinite,
-   so the system stays symmetric positive definite. Collective. */
+   so the system stays symmetric positive definite. Along the motion D is the drag mu N / s (drag_along), not the
+   derivative (about 0 while sliding): with the derivative, a particle that several contacts press at once (a fold, two
+   grids passing over each other) was carried by their summed friction through v_t = 0 into a reversal within one step
+   (a sheet sliding at 0.18 m/s thrown back at 0.38 m/s); the body contacts stop such reversals after the solve, which
+   a pair of moving layers cannot. The drag over-brakes a contact sliding with acceleration a at speed u by the
+   fraction a h / u (docs/self_collision.md). Collective. */
 static PetscErrorCode AddFrictionToImplicitStep(void *ctx, PetscReal h, Vec velocity, Vec force, Mat A)
 {
   ClothSelfContact sc = (ClothSelfContact)ctx;
@@ -393,7 +405,7 @@ static PetscErrorCode AddFrictionToImplicitStep(void *ctx, PetscReal h, Vec velo
   for (PetscInt c = 0; c < sc->ncontacts; c++) {
     const ClothContact *contact = &sc->contacts[c];
     const PetscInt     *loc     = &sc->local[SELF_CONTACT_NP * c];
-    PetscReal           r[3] = {0, 0, 0}, vrel[3] = {0, 0, 0}, n[3], vt[3], e, frep[3], ff[3], D[9], d, vn;
+    PetscReal           r[3] = {0, 0, 0}, vrel[3] = {0, 0, 0}, n[3], vt[3], e, frep[3], ff[3], D[9], d, vn, normal_force;
 
     for (PetscInt j = 0; j < SELF_CONTACT_NP; j++)
       for (PetscInt q = 0; q < 3; q++) {
@@ -406,7 +418,8 @@ static PetscErrorCode AddFrictionToImplicitStep(void *ctx, PetscReal h, Vec velo
     for (PetscInt q = 0; q < 3; q++) n[q] = r[q] / d;
     vn = Dot3(vrel, n);
     for (PetscInt q = 0; q < 3; q++) vt[q] = vrel[q] - vn * n[q];
-    PetscCall(ClothRegularisedFriction(mu, mu, PetscSqrtReal(Dot3(frep, frep)), sc->friction_velocity, 0.0, n, vt, ff, D));
+    normal_force = PetscSqrtReal(Dot3(frep, frep));
+    PetscCall(ClothRegularisedFriction(mu, mu, normal_force, sc->friction_velocity, 0.0, PETSC_TRUE, n, vt, ff, D));
     for (PetscInt j = 0; j < SELF_CONTACT_NP; j++)
       for (PetscInt q = 0; q < 3; q++) At(sc, f, fr, loc[j])[q] += contact->a[j] * ff[q];
     PetscCall(AddContactStiffness(sc, &bn, c, D, h, A));
@@ -426,13 +439,6 @@ static PetscErrorCode AddFrictionToImplicitStep(void *ctx, PetscReal h, Vec velo
 
 /* ------------------------------------------------------------------------------------------------ */
 /* Velocity filter                                                                                  */
-
-static PetscReal InverseMass(ClothSelfContact sc, PetscInt natural)
-{
-  const ClothModel m = sc->layout.model;
-
-  return (m->pinned[natural] || m->mass[natural] <= 0) ? 0.0 : 1.0 / m->mass[natural];
-}
 
 /* One Gauss-Seidel sweep over this rank's contacts: each contact whose gap would fall below the
    target during the step gets the inelastic impulse along its normal that brings it to the target,
@@ -542,7 +548,7 @@ PetscErrorCode ClothSelfContactCreate(Cloth cloth, ClothSelfContact *sc)
   s->min_gap              = 0.25;
   s->impulse_iterations   = 100;
   s->skin                 = 0.5;
-  s->friction             = PETSC_TRUE;
+  s->friction             = PETSC_FALSE;
   s->friction_coefficient = 0.3;
   s->friction_velocity    = 1e-4;
   PetscCallMPI(MPI_Comm_size(s->comm, &s->size));
