@@ -1,6 +1,7 @@
 /* ClothCollision (see collision.h). */
 #include "collision.h"
 #include "cellgrid.h"
+#include "friction.h"
 #include "geometry.h"
 #include "log.h"
 #include "vec3.h"
@@ -250,30 +251,6 @@ static PetscBool RespondVelocity(const SceneBody *d, PetscReal friction_scale, c
   return PETSC_FALSE;
 }
 
-/* The regularised Coulomb law of a held contact with unit normal n, tangential velocity vt and normal force
-   normal_force (docs/collisions.md, "Friction inside the implicit step"):
-     f = -mu(u) N v_t / s,  u = |v_t|,  s = sqrt(u^2 + eps^2),  mu(u) = mu_k + (mu_s - mu_k) exp(-(u / v_s)^2),
-   and D = -df/dv_t = mu N / s (P - t t^T) + max(0, mu N eps^2 / s^3 + N mu'(u) u / s) t t^T (P = I - n n^T,
-   t = v_t / u): across the motion the force turns with v_t, along it it changes only with the regularisation and
-   the static-to-kinetic drop. The drop (mu' < 0) would make D indefinite and the system lose the positive
-   definiteness CG needs, so its part of D is left out (clamped at 0): the drop then acts explicitly. */
-static void RegularisedFriction(PetscReal mu_s, PetscReal mu_k, PetscReal normal_force, PetscReal eps, PetscReal vs, const PetscReal n[3], const PetscReal vt[3], PetscReal f[3], PetscReal D[9])
-{
-  const PetscReal u = PetscSqrtReal(Dot3(vt, vt)), s = PetscSqrtReal(u * u + eps * eps);
-  const PetscReal decay  = vs > 0 ? PetscExpReal(-PetscSqr(u / vs)) : 0.0;
-  const PetscReal mu     = mu_k + (mu_s - mu_k) * decay;
-  const PetscReal dmu    = vs > 0 ? -(mu_s - mu_k) * 2 * u / (vs * vs) * decay : 0.0;
-  const PetscReal across = mu * normal_force / s;
-  const PetscReal along  = PetscMax(0.0, mu * normal_force * eps * eps / (s * s * s) + normal_force * dmu * u / s);
-  PetscReal       t[3]   = {0, 0, 0};
-
-  if (u > 0)
-    for (PetscInt k = 0; k < 3; k++) t[k] = vt[k] / u;
-  for (PetscInt k = 0; k < 3; k++) f[k] = -across * vt[k];
-  for (PetscInt r = 0; r < 3; r++)
-    for (PetscInt c = 0; c < 3; c++) D[3 * r + c] = across * ((r == c ? 1.0 : 0.0) - n[r] * n[c] - t[r] * t[c]) + along * t[r] * t[c];
-}
-
 /* Contacts are kept within this distance beyond the thickness (so that a particle held on a curved surface
    stays held), and held ones are released beyond it. */
 static PetscReal ContactSlop(const SceneBody *d)
@@ -318,7 +295,7 @@ static PetscErrorCode AddFrictionToImplicitStep(void *ctx, PetscReal h, Vec velo
     if (normal_force == 0 || (d->friction_static == 0 && d->friction_kinetic == 0)) continue;
     vn = Dot3(&v[3 * i], n);
     for (PetscInt k = 0; k < 3; k++) vt[k] = v[3 * i + k] - vn * n[k];
-    RegularisedFriction(scale * d->friction_static, scale * d->friction_kinetic, normal_force, col->friction_velocity, col->stribeck_velocity, n, vt, ff, D);
+    PetscCall(ClothRegularisedFriction(scale * d->friction_static, scale * d->friction_kinetic, normal_force, col->friction_velocity, col->stribeck_velocity, PETSC_FALSE, n, vt, ff, D));
     for (PetscInt k = 0; k < 3; k++) {
       f[3 * i + k] += ff[k];
       col->vt_start[3 * i + k] = vt[k];

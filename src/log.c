@@ -24,6 +24,11 @@ PetscErrorCode ClothLogRegister(void)
   PetscCall(PetscLogEventRegister("ClothCollision", ClothLog.classid, &ClothLog.collision));
   PetscCall(PetscLogEventRegister("ClothCollisionGrid", ClothLog.classid, &ClothLog.collision_grid));
   PetscCall(PetscLogEventRegister("ClothSelfCollision", ClothLog.classid, &ClothLog.self_collision));
+  PetscCall(PetscLogEventRegister("ClothSelfBuild", ClothLog.classid, &ClothLog.self_build));
+  PetscCall(PetscLogEventRegister("ClothSelfFilter", ClothLog.classid, &ClothLog.self_filter));
+  PetscCall(PetscLogEventRegister("ClothSelfPattern", ClothLog.classid, &ClothLog.self_pattern));
+  PetscCall(PetscLogEventRegister("ClothSelfForces", ClothLog.classid, &ClothLog.self_forces));
+  PetscCall(PetscLogEventRegister("ClothSelfImpulses", ClothLog.classid, &ClothLog.self_impulses));
   PetscCall(PetscLogEventRegister("ClothCheckpointRead", ClothLog.classid, &ClothLog.checkpoint_read));
   PetscCall(PetscLogStageRegister("Setup", &ClothLog.stage_setup));
   PetscCall(PetscLogStageRegister("Time steps", &ClothLog.stage_steps));

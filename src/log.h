@@ -20,6 +20,9 @@ typedef struct {
   PetscLogEvent setup, partition, forces, jacobian, solve, output, checkpoint;
   PetscLogEvent collision, collision_grid; /* contacts with bodies (detection + response); building the cell grids */
   PetscLogEvent self_collision;            /* cloth-cloth contact: exchange, search, repulsion, velocity filter */
+  PetscLogEvent self_build, self_filter;   /* nested in it: building the candidate list (exchange, cell grids); testing the candidates */
+  PetscLogEvent self_pattern, self_forces; /* the matrix pattern's check; repulsion and friction at an evaluation */
+  PetscLogEvent self_impulses;             /* the velocity filter's Gauss-Seidel sweeps */
   PetscLogEvent checkpoint_read;           /* reading and checking the checkpoint of -restart */
   PetscLogStage stage_setup, stage_steps;
   PetscLogStage stage_phase[CLOTH_SETUP_PHASES]; /* "Setup: NAME", nested in "Setup" (see ClothLogPhaseBegin) */

@@ -9,6 +9,8 @@
 #include "selfcontact_impl.h"
 #include "geometry.h"
 #include "log.h"
+#include "options.h"
+#include "friction.h"
 #include "vec3.h"
 
 /* ------------------------------------------------------------------------------------------------ */
@@ -22,77 +24,133 @@ static PetscBool StaticallyCoupled(const ClothLayout *layout, PetscInt a, PetscI
   return loc >= 0 ? PETSC_TRUE : PETSC_FALSE;
 }
 
-/* The blocks (row, col in solver numbering, as keys row * N + col) that the contacts couple beyond the
-   static pattern, sent to the owners of the rows; sorted, without duplicates. Collective. */
-static PetscErrorCode ContactBlocks(ClothSelfContact sc, PetscInt *nkeys, PetscInt64 **keys)
+/* Sorts keys[0..*n) and removes the duplicates. */
+static PetscErrorCode SortUniqueInt64(PetscInt *n, PetscInt64 keys[])
+{
+  PetscInt m = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscSortInt64(*n, keys));
+  for (PetscInt k = 0; k < *n; k++)
+    if (m == 0 || keys[k] != keys[m - 1]) keys[m++] = keys[k];
+  *n = m;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The blocks (row, col in solver numbering, as keys row * N + col) that this rank's contacts couple beyond the static
+   pattern; sorted, without duplicates. */
+static PetscErrorCode LocalContactBlocks(ClothSelfContact sc, PetscInt *nkeys, PetscInt64 **keys)
 {
   const ClothLayout *layout = &sc->layout;
   const PetscInt64   N      = layout->nglobal;
-  PetscMPIInt       *scount, *rcount, *sdispl, *rdispl;
-  PetscInt64        *send, *recv;
-  PetscInt           nsend = 0, n = 0, *dest;
+  PetscInt           n      = 0;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscCalloc4(sc->size, &scount, sc->size, &rcount, sc->size + 1, &sdispl, sc->size + 1, &rdispl));
-  PetscCall(PetscMalloc2(12 * sc->ncontacts + 1, &send, 12 * sc->ncontacts + 1, &dest));
+  PetscCall(PetscMalloc1(12 * sc->ncontacts + 1, keys));
   for (PetscInt c = 0; c < sc->ncontacts; c++)
     for (PetscInt j = 0; j < SELF_CONTACT_NP; j++)
       for (PetscInt k = 0; k < SELF_CONTACT_NP; k++) {
         const PetscInt a = sc->contacts[c].p[j], b = sc->contacts[c].p[k];
         if (j == k || StaticallyCoupled(layout, a, b)) continue;
-        send[nsend]   = layout->solver_of_natural[a] * N + layout->solver_of_natural[b];
-        dest[nsend++] = layout->part[a];
-        scount[layout->part[a]]++;
+        (*keys)[n++] = layout->solver_of_natural[a] * N + layout->solver_of_natural[b];
       }
-  for (PetscMPIInt r = 0; r < sc->size; r++) sdispl[r + 1] = sdispl[r] + scount[r];
-  {
-    PetscInt64  *sorted;
-    PetscMPIInt *fill;
-    PetscCall(PetscMalloc1(nsend + 1, &sorted));
-    PetscCall(PetscCalloc1(sc->size, &fill));
-    for (PetscInt k = 0; k < nsend; k++) sorted[sdispl[dest[k]] + fill[dest[k]]++] = send[k];
-    PetscCall(PetscFree(fill));
-    PetscCall(PetscFree2(send, dest));
-    send = sorted;
+  PetscCall(SortUniqueInt64(&n, *keys));
+  *nkeys = n;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The keys (sorted) sent to the owners of their rows; received: the keys of this rank's rows, sorted, without
+   duplicates. Collective. */
+static PetscErrorCode SendBlocksToRowOwners(ClothSelfContact sc, PetscInt nsend, const PetscInt64 send[], PetscInt *nkeys, PetscInt64 **keys)
+{
+  const ClothLayout *layout = &sc->layout;
+  const PetscInt64   N      = layout->nglobal;
+  PetscMPIInt       *scount, *rcount, *sdispl, *rdispl;
+  PetscInt64        *recv;
+  PetscInt           n = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscCalloc4(sc->size, &scount, sc->size, &rcount, sc->size + 1, &sdispl, sc->size + 1, &rdispl));
+  /* sorted keys are grouped by row, and the rows by owner (solver numbering: rank r owns [row_start[r], row_start[r + 1])) */
+  for (PetscInt k = 0, r = 0; k < nsend; k++) {
+    while (send[k] / N >= sc->row_start[r + 1]) r++;
+    scount[r]++;
   }
+  for (PetscMPIInt r = 0; r < sc->size; r++) sdispl[r + 1] = sdispl[r] + scount[r];
   PetscCallMPI(MPI_Alltoall(scount, 1, MPI_INT, rcount, 1, MPI_INT, sc->comm));
   for (PetscMPIInt r = 0; r < sc->size; r++) rdispl[r + 1] = rdispl[r] + rcount[r];
   PetscCall(PetscMalloc1(rdispl[sc->size] + 1, &recv));
   PetscCallMPI(MPI_Alltoallv(send, scount, sdispl, MPIU_INT64, recv, rcount, rdispl, MPIU_INT64, sc->comm));
-  PetscCall(PetscSortInt64(rdispl[sc->size], recv));
-  for (PetscInt k = 0; k < rdispl[sc->size]; k++)
-    if (n == 0 || recv[k] != recv[n - 1]) recv[n++] = recv[k];
+  n = rdispl[sc->size];
+  PetscCall(SortUniqueInt64(&n, recv));
   *nkeys = n;
   *keys  = recv;
-  PetscCall(PetscFree(send));
   PetscCall(PetscFree4(scount, rcount, sdispl, rdispl));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* Are all n sorted keys in the sorted set[0..nset)? */
+static PetscBool AllKnown(PetscInt n, const PetscInt64 keys[], PetscInt nset, const PetscInt64 set[])
+{
+  PetscInt j = 0;
+
+  for (PetscInt k = 0; k < n; k++) {
+    while (j < nset && set[j] < keys[k]) j++;
+    if (j == nset || set[j] != keys[k]) return PETSC_FALSE;
+  }
+  return PETSC_TRUE;
+}
+
 /* When blocks are needed that the pattern lacks, the new pattern is the union of the needed and the
    present ones (contacts come and go as layers slide: keeping recent blocks saves rebuilds), or only
-   the needed ones once the union has grown beyond twice their number. Collective. */
+   the needed ones once the union has grown beyond twice their number. The blocks a rank has already found in the
+   pattern (known) are not sent again: while every rank's contacts couple known blocks only, one reduction decides.
+   Collective. */
 static PetscErrorCode UpdatePattern(ClothSelfContact sc, PetscBool *changed)
 {
-  PetscInt    n = 0, nunion = 0;
-  PetscInt64 *keys    = NULL, *both;
-  PetscBool   missing = PETSC_FALSE;
+  PetscInt    n = 0, nlocal = 0, nunion = 0;
+  PetscInt64 *keys    = NULL, *mine, *both;
+  PetscBool   missing = PETSC_FALSE, unknown;
 
   PetscFunctionBeginUser;
-  PetscCall(ContactBlocks(sc, &n, &keys));
+  *changed = PETSC_FALSE;
+  if (!sc->any_candidates) PetscFunctionReturn(PETSC_SUCCESS); /* no contacts on any rank */
+  PetscCall(PetscLogEventBegin(ClothLog.self_pattern, 0, 0, 0, 0));
+  PetscCall(LocalContactBlocks(sc, &nlocal, &mine));
+  unknown = AllKnown(nlocal, mine, sc->nknown, sc->known) ? PETSC_FALSE : PETSC_TRUE;
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &unknown, 1, MPIU_BOOL, MPI_LOR, sc->comm));
+  if (!unknown) {
+    PetscCall(PetscFree(mine));
+    PetscCall(PetscLogEventEnd(ClothLog.self_pattern, 0, 0, 0, 0));
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
+  PetscCall(SendBlocksToRowOwners(sc, nlocal, mine, &n, &keys));
   for (PetscInt k = 0; k < n && !missing; k++)
     if (!bsearch(&keys[k], sc->extra, (size_t)sc->nextra, sizeof(PetscInt64), SelfContactCompareInt64)) missing = PETSC_TRUE;
   PetscCallMPI(MPI_Allreduce(&missing, changed, 1, MPIU_BOOL, MPI_LOR, sc->comm));
-  if (!*changed) {
+  if (!*changed) { /* all sent blocks are in the pattern: known from now on */
+    PetscCall(PetscMalloc1(sc->nknown + nlocal + 1, &both));
+    PetscCall(PetscArraycpy(both, sc->known, sc->nknown));
+    PetscCall(PetscArraycpy(both + sc->nknown, mine, nlocal));
+    nunion = sc->nknown + nlocal;
+    PetscCall(SortUniqueInt64(&nunion, both));
+    PetscCall(PetscFree(sc->known));
+    PetscCall(PetscFree(mine));
+    sc->known  = both;
+    sc->nknown = nunion;
     PetscCall(PetscFree(keys));
+    PetscCall(PetscLogEventEnd(ClothLog.self_pattern, 0, 0, 0, 0));
     PetscFunctionReturn(PETSC_SUCCESS);
   }
+  /* the pattern changes: of the blocks known, only those just sent are sure to stay */
+  PetscCall(PetscFree(sc->known));
+  sc->known  = mine;
+  sc->nknown = nlocal;
   PetscCall(PetscMalloc1(n + sc->nextra + 1, &both));
   PetscCall(PetscArraycpy(both, keys, n));
   PetscCall(PetscArraycpy(both + n, sc->extra, sc->nextra));
-  PetscCall(PetscSortInt64(n + sc->nextra, both));
-  for (PetscInt k = 0; k < n + sc->nextra; k++)
-    if (nunion == 0 || both[k] != both[nunion - 1]) both[nunion++] = both[k];
+  nunion = n + sc->nextra;
+  PetscCall(SortUniqueInt64(&nunion, both));
   PetscCall(PetscFree(sc->extra));
   if (nunion <= 2 * n + 64) {
     sc->extra  = both;
@@ -104,6 +162,7 @@ static PetscErrorCode UpdatePattern(ClothSelfContact sc, PetscBool *changed)
     PetscCall(PetscFree(both));
   }
   sc->rebuilds++;
+  PetscCall(PetscLogEventEnd(ClothLog.self_pattern, 0, 0, 0, 0));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -190,7 +249,8 @@ static void ContactFilters(ClothSelfContact sc, const BodyNormals *bn, PetscInt 
   }
 }
 
-/* h2 S_j (a_j a_k K) S_k into A at the contact's rows and columns: the filtered contact stiffness. */
+/* h2 S_j (a_j a_k K) S_k into A at the contact's rows and columns: the filtered contact stiffness (or, with h2 = h and
+   K = D, the friction's velocity Jacobian). */
 static PetscErrorCode AddContactStiffness(ClothSelfContact sc, const BodyNormals *bn, PetscInt c, const PetscReal K[9], PetscReal h2, Mat A)
 {
   const ClothContact *contact = &sc->contacts[c];
@@ -236,8 +296,10 @@ static PetscErrorCode AddRepulsion(ClothSelfContact sc, Vec position, Vec veloci
   BodyNormals  bn = {NULL, NULL, NULL};
 
   PetscFunctionBeginUser;
-  if (!sc->remote_scatter) PetscFunctionReturn(PETSC_SUCCESS); /* no search yet (on every rank alike) */
+  /* no search yet, or no contact possible since the candidate list's build (on every rank alike) */
+  if (!sc->remote_scatter || !sc->any_candidates) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(PetscLogEventBegin(ClothLog.self_collision, 0, 0, 0, 0));
+  PetscCall(PetscLogEventBegin(ClothLog.self_forces, 0, 0, 0, 0));
   PetscCall(SelfContactRefreshRemote(sc, position, sc->xremote));
   if (kv) PetscCall(SelfContactRefreshRemote(sc, velocity, sc->vremote));
   PetscCall(VecZeroEntries(sc->fremote));
@@ -291,12 +353,10 @@ static PetscErrorCode AddRepulsion(ClothSelfContact sc, Vec position, Vec veloci
   PetscCall(VecRestoreArray(position, &x));
   PetscCall(SelfContactSumRemoteInto(sc, sc->fremote, force));
   if (kv) PetscCall(SelfContactSumRemoteInto(sc, sc->kvremote, kv));
+  PetscCall(PetscLogEventEnd(ClothLog.self_forces, 0, 0, 0, 0));
   PetscCall(PetscLogEventEnd(ClothLog.self_collision, 0, 0, 0, 0));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
-
-/* ------------------------------------------------------------------------------------------------ */
-/* Velocity filter                                                                                  */
 
 static PetscReal InverseMass(ClothSelfContact sc, PetscInt natural)
 {
@@ -304,6 +364,81 @@ static PetscReal InverseMass(ClothSelfContact sc, PetscInt natural)
 
   return (m->pinned[natural] || m->mass[natural] <= 0) ? 0.0 : 1.0 / m->mass[natural];
 }
+
+/* ------------------------------------------------------------------------------------------------ */
+/* Friction between layers                                                                          */
+
+/* The add_to_implicit_step of the self-contact contribution (cloth.h), -self_collision_friction: every contact within
+   the thickness gets the regularised Coulomb friction of the body contacts (friction.h, one law for both) on the
+   tangential part of the relative velocity of its closest points, v_rel = sum_k a_k v_k, with the repulsion at the
+   step's start as its normal force (lagged, as for the bodies) and the cloth's friction scale. Particle k takes
+   a_k f, and h a_j a_k S_j D S_k enters the blocks the repulsion already couples: D is symmetric positive semidefinite,
+   so the system stays symmetric positive definite. Along the motion D is the drag mu N / s (drag_along), not the
+   derivative (about 0 while sliding): with the derivative, a particle that several contacts press at once (a fold, two
+   grids passing over each other) was carried by their summed friction through v_t = 0 into a reversal within one step
+   (a sheet sliding at 0.18 m/s thrown back at 0.38 m/s); the body contacts stop such reversals after the solve, which
+   a pair of moving layers cannot. The drag over-brakes a contact sliding with acceleration a at speed u by the
+   fraction a h / u (docs/self_collision.md). Collective. */
+static PetscErrorCode AddFrictionToImplicitStep(void *ctx, PetscReal h, Vec velocity, Vec force, Mat A)
+{
+  ClothSelfContact sc = (ClothSelfContact)ctx;
+  PetscScalar     *x, *xr, *v, *vr, *f, *fr;
+  BodyNormals      bn;
+  PetscReal        scale, mu;
+
+  PetscFunctionBeginUser;
+  if (!sc->friction || sc->friction_coefficient == 0 || !sc->remote_scatter || !sc->any_candidates) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(PetscLogEventBegin(ClothLog.self_collision, 0, 0, 0, 0));
+  PetscCall(PetscLogEventBegin(ClothLog.self_forces, 0, 0, 0, 0));
+  PetscCall(ClothGetFrictionScale(sc->cloth, &scale));
+  mu = scale * sc->friction_coefficient;
+  PetscCall(SelfContactRefreshRemote(sc, sc->position, sc->xremote));
+  PetscCall(SelfContactRefreshRemote(sc, velocity, sc->vremote));
+  PetscCall(VecZeroEntries(sc->fremote));
+  PetscCall(BodyNormalsGet(sc, &bn));
+  PetscCall(VecGetArray(sc->position, &x));
+  PetscCall(VecGetArray(sc->xremote, &xr));
+  PetscCall(VecGetArray(velocity, &v));
+  PetscCall(VecGetArray(sc->vremote, &vr));
+  PetscCall(VecGetArray(force, &f));
+  PetscCall(VecGetArray(sc->fremote, &fr));
+  for (PetscInt c = 0; c < sc->ncontacts; c++) {
+    const ClothContact *contact = &sc->contacts[c];
+    const PetscInt     *loc     = &sc->local[SELF_CONTACT_NP * c];
+    PetscReal           r[3] = {0, 0, 0}, vrel[3] = {0, 0, 0}, n[3], vt[3], e, frep[3], ff[3], D[9], d, vn, normal_force;
+
+    for (PetscInt j = 0; j < SELF_CONTACT_NP; j++)
+      for (PetscInt q = 0; q < 3; q++) {
+        r[q] += contact->a[j] * PetscRealPart(At(sc, x, xr, loc[j])[q]);
+        vrel[q] += contact->a[j] * PetscRealPart(At(sc, v, vr, loc[j])[q]);
+      }
+    d = PetscSqrtReal(Dot3(r, r));
+    if (!(d < sc->thickness) || d <= 0) continue; /* no repulsion, no normal force */
+    PetscCall(RepulsionEvaluate(sc, r, PETSC_TRUE, &e, frep, NULL));
+    for (PetscInt q = 0; q < 3; q++) n[q] = r[q] / d;
+    vn = Dot3(vrel, n);
+    for (PetscInt q = 0; q < 3; q++) vt[q] = vrel[q] - vn * n[q];
+    normal_force = PetscSqrtReal(Dot3(frep, frep));
+    PetscCall(ClothRegularisedFriction(mu, mu, normal_force, sc->friction_velocity, 0.0, PETSC_TRUE, n, vt, ff, D));
+    for (PetscInt j = 0; j < SELF_CONTACT_NP; j++)
+      for (PetscInt q = 0; q < 3; q++) At(sc, f, fr, loc[j])[q] += contact->a[j] * ff[q];
+    PetscCall(AddContactStiffness(sc, &bn, c, D, h, A));
+  }
+  PetscCall(VecRestoreArray(sc->fremote, &fr));
+  PetscCall(VecRestoreArray(force, &f));
+  PetscCall(VecRestoreArray(sc->vremote, &vr));
+  PetscCall(VecRestoreArray(velocity, &v));
+  PetscCall(VecRestoreArray(sc->xremote, &xr));
+  PetscCall(VecRestoreArray(sc->position, &x));
+  PetscCall(BodyNormalsRestore(sc, &bn));
+  PetscCall(SelfContactSumRemoteInto(sc, sc->fremote, force));
+  PetscCall(PetscLogEventEnd(ClothLog.self_forces, 0, 0, 0, 0));
+  PetscCall(PetscLogEventEnd(ClothLog.self_collision, 0, 0, 0, 0));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* ------------------------------------------------------------------------------------------------ */
+/* Velocity filter                                                                                  */
 
 /* One Gauss-Seidel sweep over this rank's contacts: each contact whose gap would fall below the
    target during the step gets the inelastic impulse along its normal that brings it to the target,
@@ -356,12 +491,18 @@ PetscErrorCode ClothSelfContactFilterVelocity(ClothSelfContact sc, PetscReal h, 
   PetscCall(PetscLogEventBegin(ClothLog.self_collision, 0, 0, 0, 0));
   /* the contacts the step will meet: those within the thickness plus their travel at the new velocities */
   PetscCall(SelfContactSearch(sc, sc->thickness, velocity, h));
+  if (!sc->any_candidates) { /* no contact on any rank */
+    PetscCall(PetscLogEventEnd(ClothLog.self_collision, 0, 0, 0, 0));
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
+  PetscCall(PetscLogEventBegin(ClothLog.self_impulses, 0, 0, 0, 0));
   PetscCall(BodyNormalsGet(sc, &bn));
   for (it = 0; it < sc->impulse_iterations; it++) {
     PetscScalar *v, *vr;
 
-    /* remote particles: their velocity changes go back to their owners (fremote = new - old) */
-    PetscCall(SelfContactRefreshRemote(sc, velocity, sc->vremote));
+    /* remote particles: their velocity changes go back to their owners (fremote = new - old); the search has just
+       refreshed their velocities */
+    if (it > 0) PetscCall(SelfContactRefreshRemote(sc, velocity, sc->vremote));
     PetscCall(VecCopy(sc->vremote, sc->fremote));
     PetscCall(VecGetArray(velocity, &v));
     PetscCall(VecGetArray(sc->vremote, &vr));
@@ -377,6 +518,7 @@ PetscErrorCode ClothSelfContactFilterVelocity(ClothSelfContact sc, PetscReal h, 
   PetscCall(BodyNormalsRestore(sc, &bn));
   if (active) PetscCall(PetscInfo(NULL, "Self-collision impulses: %" PetscInt_FMT " contacts still closing after %" PetscInt_FMT " iterations\n", active, it));
   sc->impulses += total;
+  PetscCall(PetscLogEventEnd(ClothLog.self_impulses, 0, 0, 0, 0));
   PetscCall(PetscLogEventEnd(ClothLog.self_collision, 0, 0, 0, 0));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -398,13 +540,17 @@ PetscErrorCode ClothSelfContactCreate(Cloth cloth, ClothSelfContact *sc)
   s->cloth = cloth;
   s->scene = full;
   PetscCall(ClothGetComm(cloth, &s->comm));
-  s->enabled            = scene->enabled;
-  s->thickness          = scene->thickness;
-  s->stiffness          = scene->stiffness;
-  s->exclude_ring       = scene->given ? scene->exclude_ring : 1;
-  s->same_piece         = scene->given ? scene->same_piece : PETSC_TRUE;
-  s->min_gap            = 0.25;
-  s->impulse_iterations = 100;
+  s->enabled              = scene->enabled;
+  s->thickness            = scene->thickness;
+  s->stiffness            = scene->stiffness;
+  s->exclude_ring         = scene->given ? scene->exclude_ring : 1;
+  s->same_piece           = scene->given ? scene->same_piece : PETSC_TRUE;
+  s->min_gap              = 0.25;
+  s->impulse_iterations   = 100;
+  s->skin                 = 0.5;
+  s->friction             = PETSC_FALSE;
+  s->friction_coefficient = 0.3;
+  s->friction_velocity    = 1e-4;
   PetscCallMPI(MPI_Comm_size(s->comm, &s->size));
   PetscCallMPI(MPI_Comm_rank(s->comm, &s->rank));
   *sc = s;
@@ -421,6 +567,10 @@ PetscErrorCode ClothSelfContactSetFromOptions(ClothSelfContact sc)
   PetscCall(PetscOptionsInt("-self_collision_exclude_ring", "Particles of one piece this many grid rings apart or closer never collide", "ClothSelfContactUpdate", sc->exclude_ring, &sc->exclude_ring, NULL));
   PetscCall(PetscOptionsReal("-self_collision_min_gap", "Impulses keep every gap above this fraction of the thickness", "ClothSelfContactFilterVelocity", sc->min_gap, &sc->min_gap, NULL));
   PetscCall(PetscOptionsInt("-self_collision_impulse_iterations", "Largest number of Gauss-Seidel sweeps of the impulse filter per step", "ClothSelfContactFilterVelocity", sc->impulse_iterations, &sc->impulse_iterations, NULL));
+  PetscCall(PetscOptionsReal("-self_collision_skin", "Candidate list: the particles may move this fraction of the thickness (plus the step's travel) before the list is built again", "ClothSelfContactUpdate", sc->skin, &sc->skin, NULL));
+  PetscCall(PetscOptionsBool("-self_collision_friction", "Regularised Coulomb friction between layers in contact, in the implicit step", "ClothSelfContactGetContribution", sc->friction, &sc->friction, NULL));
+  PetscCall(PetscOptionsReal("-self_collision_friction_coefficient", "Friction coefficient mu between layers", "ClothSelfContactGetContribution", sc->friction_coefficient, &sc->friction_coefficient, NULL));
+  PetscCall(PetscOptionsReal("-self_collision_friction_velocity", "Friction between layers: regularisation velocity eps_v, m/s", "ClothSelfContactGetContribution", sc->friction_velocity, &sc->friction_velocity, NULL));
   PetscCall(PetscOptionsBool("-self_collision_view", "Print the self-collision settings and statistics at the end", "ClothSelfContactView", sc->view, &sc->view, NULL));
   PetscOptionsEnd();
   if (sc->enabled) {
@@ -435,6 +585,9 @@ PetscErrorCode ClothSelfContactSetFromOptions(ClothSelfContact sc)
                (double)sc->stiffness);
     PetscCheck(sc->exclude_ring >= 0, sc->comm, PETSC_ERR_USER_INPUT, "-self_collision_exclude_ring must not be negative, got %" PetscInt_FMT, sc->exclude_ring);
     PetscCheck(sc->min_gap > 0 && sc->min_gap < 1, sc->comm, PETSC_ERR_USER_INPUT, "-self_collision_min_gap must lie in (0, 1), got %g", (double)sc->min_gap);
+    PetscCall(ClothOptionsCheckReal(sc->comm, "-self_collision_skin", sc->skin, 0, PETSC_FALSE, 100, NULL));
+    PetscCall(ClothOptionsCheckReal(sc->comm, "-self_collision_friction_coefficient", sc->friction_coefficient, 0, PETSC_FALSE, 100, NULL));
+    PetscCall(ClothOptionsCheckReal(sc->comm, "-self_collision_friction_velocity", sc->friction_velocity, 0, PETSC_TRUE, PETSC_MAX_REAL, "m/s"));
     PetscCheck(sc->impulse_iterations >= 1, sc->comm, PETSC_ERR_USER_INPUT, "-self_collision_impulse_iterations must be at least 1, got %" PetscInt_FMT, sc->impulse_iterations);
   }
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -455,6 +608,9 @@ PetscErrorCode ClothSelfContactSetUp(ClothSelfContact sc)
   PetscCall(SelfContactBuildIncidence(layout->nglobal, sc->ntri, 3, sc->tri, &sc->tri_start, &sc->tri_of));
   PetscCall(SelfContactBuildIncidence(layout->nglobal, sc->nedge, 2, sc->edge, &sc->edge_start, &sc->edge_of));
   PetscCall(SelfContactBuildGridPositions(sc, layout->scene, layout->model));
+  PetscCall(PetscMalloc1(sc->size + 1, &sc->row_start));
+  sc->row_start[sc->size] = layout->nglobal;
+  PetscCallMPI(MPI_Allgather(&layout->rstart, 1, MPIU_INT, sc->row_start, 1, MPIU_INT, sc->comm));
   PetscCall(PetscMalloc1(layout->nglobal, &sc->contact_index));
   for (PetscInt g = 0; g < layout->nglobal; g++) sc->contact_index[g] = -1;
   PetscCall(PetscCalloc2(sc->ntri + 1, &sc->tri_mark, sc->nedge + 1, &sc->edge_mark));
@@ -479,7 +635,7 @@ PetscErrorCode ClothSelfContactGetContribution(ClothSelfContact sc, ClothContrib
   contribution->ctx                  = sc;
   contribution->add                  = AddContribution;
   contribution->count_row_blocks     = CountRowBlocks;
-  contribution->add_to_implicit_step = NULL;
+  contribution->add_to_implicit_step = AddFrictionToImplicitStep;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -520,6 +676,14 @@ PetscErrorCode ClothSelfContactFind(ClothSelfContact sc, PetscReal radius)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+PetscErrorCode ClothSelfContactGetCandidateList(ClothSelfContact sc, PetscReal *skin, PetscInt *builds)
+{
+  PetscFunctionBeginUser;
+  if (skin) *skin = sc->skin;
+  if (builds) *builds = sc->builds;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode ClothSelfContactGetContacts(ClothSelfContact sc, PetscInt *n, const ClothContact **contacts)
 {
   PetscFunctionBeginUser;
@@ -551,10 +715,10 @@ PetscErrorCode ClothSelfContactGetContactField(ClothSelfContact sc, Vec field, P
 
 PetscErrorCode ClothSelfContactView(ClothSelfContact sc, PetscViewer viewer)
 {
-  PetscInt local[3] = {sc->contacts_found, sc->impulses, sc->nremote}, sum[3];
+  PetscInt64 local[4] = {sc->contacts_found, sc->impulses, sc->nremote, sc->candidates_built}, sum[4];
 
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Allreduce(local, sum, 3, MPIU_INT, MPI_SUM, sc->comm));
+  PetscCallMPI(MPI_Allreduce(local, sum, 4, MPIU_INT64, MPI_SUM, sc->comm));
   if (!sc->enabled) {
     PetscCall(PetscViewerASCIIPrintf(viewer, "Self-collision: off\n"));
     PetscFunctionReturn(PETSC_SUCCESS);
@@ -562,7 +726,12 @@ PetscErrorCode ClothSelfContactView(ClothSelfContact sc, PetscViewer viewer)
   PetscCall(PetscViewerASCIIPrintf(viewer, "Self-collision: thickness %g m, stiffness %g N/m, particles within %" PetscInt_FMT " ring(s) excluded%s, impulses keep gaps above %g x thickness\n", (double)sc->thickness, (double)sc->stiffness,
                                    sc->exclude_ring, sc->same_piece ? "" : ", one piece never collides with itself", (double)sc->min_gap));
   PetscCall(PetscViewerASCIIPrintf(viewer, "  %" PetscInt_FMT " searches, %.1f contacts per search, %" PetscInt_FMT " impulses, %" PetscInt_FMT " matrix pattern rebuilds, %" PetscInt_FMT " remote particles at the last search\n", sc->searches,
-                                   sc->searches ? (double)sum[0] / (double)sc->searches : 0.0, sum[1], sc->rebuilds, sum[2]));
+                                   sc->searches ? (double)sum[0] / (double)sc->searches : 0.0, (PetscInt)sum[1], sc->rebuilds, (PetscInt)sum[2]));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "  candidate list (skin %g x thickness): %" PetscInt_FMT " builds, %.1f candidates per build\n", (double)sc->skin, sc->builds, sc->builds ? (double)sum[3] / (double)sc->builds : 0.0));
+  if (sc->friction)
+    PetscCall(PetscViewerASCIIPrintf(viewer, "  friction between layers: regularised Coulomb, mu %g, eps_v %g m/s\n", (double)sc->friction_coefficient, (double)sc->friction_velocity));
+  else
+    PetscCall(PetscViewerASCIIPrintf(viewer, "  friction between layers: off\n"));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -583,7 +752,10 @@ PetscErrorCode ClothSelfContactDestroy(ClothSelfContact *sc)
   PetscCall(PetscFree(s->remote_natural));
   PetscCall(PetscFree(s->natural_of));
   PetscCall(PetscFree(s->contact_index));
-  PetscCall(PetscFree2(s->x, s->dx));
+  PetscCall(PetscFree3(s->x, s->dx, s->x0));
+  PetscCall(PetscFree(s->candidates));
+  PetscCall(PetscFree(s->known));
+  PetscCall(PetscFree(s->row_start));
   PetscCall(PetscFree2(s->tri_mark, s->edge_mark));
   PetscCall(CellGridDestroy(&s->triangle_grid));
   PetscCall(CellGridDestroy(&s->edge_grid));

@@ -65,6 +65,9 @@ PetscErrorCode ClothSelfContactSetExclusion(ClothSelfContact sc, ClothSelfContac
 PetscErrorCode ClothSelfContactUpdate(ClothSelfContact sc, PetscReal h, PetscBool *pattern_changed);
 /* The same search within radius (no travel) and without touching the matrix pattern; for tests. */
 PetscErrorCode ClothSelfContactFind(ClothSelfContact sc, PetscReal radius);
+/* The candidate list's skin (fraction of the thickness that particles may move before it is built again) and how
+   often it has been built. Not collective. */
+PetscErrorCode ClothSelfContactGetCandidateList(ClothSelfContact sc, PetscReal *skin, PetscInt *builds);
 /* This rank's contacts from the last search (borrowed, natural numbering). Not collective. */
 PetscErrorCode ClothSelfContactGetContacts(ClothSelfContact sc, PetscInt *n, const ClothContact **contacts);
 /* For output: per particle, in natural order (field: one entry per particle, a Vec like

@@ -7,6 +7,14 @@
 
 #define SELF_CONTACT_NP 4 /* particles of a contact element */
 
+/* A pair of primitives of the candidate list: kind and particles as in ClothContact (natural numbering), and their
+   contact-local indices. */
+typedef struct {
+  ClothContactKind kind;
+  PetscInt         p[SELF_CONTACT_NP];
+  PetscInt         local[SELF_CONTACT_NP];
+} SelfContactCandidate;
+
 struct _n_ClothSelfContact {
   Cloth                     cloth; /* borrowed; read through its public accessors only */
   Scene                     scene;
@@ -16,6 +24,10 @@ struct _n_ClothSelfContact {
   PetscMPIInt               size, rank;
   PetscBool                 enabled, view, setup;
   PetscReal                 thickness, stiffness, min_gap;
+  PetscReal                 skin;                 /* candidate list: motion allowed before a rebuild, as a fraction of the radius */
+  PetscBool                 friction;             /* regularised Coulomb friction between layers in the implicit step */
+  PetscReal                 friction_coefficient; /* mu */
+  PetscReal                 friction_velocity;    /* eps_v of the regularised law, m/s */
   PetscInt                  exclude_ring, impulse_iterations;
   PetscBool                 same_piece;
   ClothSelfContactExcludeFn exclude;
@@ -37,12 +49,33 @@ struct _n_ClothSelfContact {
   PetscInt     *natural_of;                                   /* contact-local -> natural */
   PetscInt     *contact_index;                                /* natural -> contact-local, -1 when not present (size N) */
   PetscReal    *x, *dx;                                       /* contact-local positions at the search, displacements over the step */
+  PetscReal    *x0;                                           /* contact-local positions when the candidate list was built */
+  PetscInt      nalloc;                                       /* contact-local particles natural_of, x, dx, x0 have room for */
   Vec           xremote, vremote, fremote, kvremote, bremote; /* bremote: body-contact normals */
   VecScatter    remote_scatter;                               /* cloth state -> remote particles */
   CellGrid      triangle_grid, edge_grid;                     /* the cell grids of the last search */
   PetscInt      ncontacts, maxcontacts;
   ClothContact *contacts; /* natural numbering */
   PetscInt     *local;    /* 4 contact-local indices per contact */
+
+  /* the candidate list (a Verlet list): every pair of primitives closer than list_radius = radius + 2 list_budget at
+     the positions x0 of its build. A pair within the radius plus its travel at a later search is among them as long
+     as no particle has moved more than the largest displacement since the build plus the largest travel over the
+     step sum to at most list_budget (each of the pair's closest points moves at most that far), so the later
+     searches only test the candidates; the list is built again when that bound fails. */
+  PetscBool             list_valid;
+  PetscBool             any_candidates;           /* on some rank: without, the searches, forces and impulses have nothing to do (collective) */
+  PetscReal             list_radius, list_budget; /* the search radius it serves; the motion it allows */
+  PetscInt              ncandidates, maxcandidates;
+  SelfContactCandidate *candidates; /* sorted by kind, then particles: the contacts come out in this order */
+  PetscInt              builds;     /* statistics: list builds, candidates summed over the builds (this rank) */
+  PetscInt64            candidates_built;
+
+  /* keys of the contact blocks this rank has sent to the rows' owners and found in the matrix pattern since it last
+     changed (sorted): contacts whose blocks are all here need no exchange to know the pattern holds them */
+  PetscInt   *row_start; /* solver numbering: rank r owns the rows row_start[r] .. row_start[r + 1] - 1 */
+  PetscInt    nknown;
+  PetscInt64 *known;
 
   /* blocks of the implicit matrix beyond the static pattern, for owned rows: keys row * N + col (solver) */
   PetscInt    nextra;
@@ -70,5 +103,6 @@ PetscErrorCode SelfContactRefreshRemote(ClothSelfContact sc, Vec global, Vec rem
 PetscErrorCode SelfContactSumRemoteInto(ClothSelfContact sc, Vec remote, Vec global);
 
 /* All contacts within radius, plus the relative travel of their closest points over a step of h at
-   velocity (NULL: no travel), at the cloth's current positions. Collective. */
+   velocity (NULL: no travel), at the cloth's current positions, in the order of the candidate list (kind, then
+   particles), from the candidate list, built again first when the particles moved beyond its budget. Collective. */
 PetscErrorCode SelfContactSearch(ClothSelfContact sc, PetscReal radius, Vec velocity, PetscReal h);

@@ -54,14 +54,14 @@ static void TestEdgeEdge(const PetscReal *const xs[SELF_CONTACT_NP], const Petsc
   *hit              = Within(contact, ds, radius);
 }
 
-/* The box of n points xs at the start and xs + ds at the end of the step, inflated by inflate. */
-static void SweptBoxOf(const PetscReal *const xs[], const PetscReal *const ds[], PetscInt n, PetscReal inflate, PetscReal box[6])
+/* The box of the n points xs, inflated by inflate. */
+static void BoxOf(const PetscReal *const xs[], PetscInt n, PetscReal inflate, PetscReal box[6])
 {
   for (PetscInt c = 0; c < 3; c++) {
     box[c] = box[3 + c] = xs[0][c];
-    for (PetscInt k = 0; k < n; k++) {
-      box[c]     = PetscMin(box[c], PetscMin(xs[k][c], xs[k][c] + ds[k][c]));
-      box[3 + c] = PetscMax(box[3 + c], PetscMax(xs[k][c], xs[k][c] + ds[k][c]));
+    for (PetscInt k = 1; k < n; k++) {
+      box[c]     = PetscMin(box[c], xs[k][c]);
+      box[3 + c] = PetscMax(box[3 + c], xs[k][c]);
     }
     box[c] -= inflate;
     box[3 + c] += inflate;
@@ -155,21 +155,39 @@ PetscErrorCode SelfContactBuildGridPositions(ClothSelfContact sc, Scene scene, C
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* Must the primitives with particles pa[0..na) and pb[0..nb) (natural) never be in contact? */
-static PetscErrorCode Excluded(ClothSelfContact sc, const PetscInt pa[], PetscInt na, const PetscInt pb[], PetscInt nb, PetscBool *excluded)
+/* Are the primitives with particles pa[0..na) and pb[0..nb) (natural) too close in one piece to collide (the ring
+   exclusion, or same_piece off)? These exclusions never change: the candidate list leaves such pairs out. */
+static PetscBool RingExcluded(ClothSelfContact sc, const PetscInt pa[], PetscInt na, const PetscInt pb[], PetscInt nb)
 {
-  PetscFunctionBeginUser;
-  *excluded = PETSC_FALSE;
   for (PetscInt i = 0; i < na; i++)
     for (PetscInt j = 0; j < nb; j++) {
       const PetscInt a = pa[i], b = pb[j];
       if (sc->piece_of[a] == sc->piece_of[b]) {
         const PetscInt ring = PetscMax(PetscAbsInt(sc->grid_i[a] - sc->grid_i[b]), PetscAbsInt(sc->grid_j[a] - sc->grid_j[b]));
-        if (!sc->same_piece || ring <= sc->exclude_ring) *excluded = PETSC_TRUE;
+        if (!sc->same_piece || ring <= sc->exclude_ring) return PETSC_TRUE;
       }
-      if (!*excluded && sc->exclude) PetscCall(sc->exclude(sc->exclude_ctx, a, b, excluded));
-      if (*excluded) PetscFunctionReturn(PETSC_SUCCESS);
     }
+  return PETSC_FALSE;
+}
+
+/* Does the exclusion callback exclude the primitives with particles pa[0..na) and pb[0..nb)? It changes as seams
+   close, so it is asked at every search, about the pairs within reach only. */
+static PetscErrorCode CallbackExcluded(ClothSelfContact sc, const PetscInt pa[], PetscInt na, const PetscInt pb[], PetscInt nb, PetscBool *excluded)
+{
+  PetscFunctionBeginUser;
+  *excluded = PETSC_FALSE;
+  if (!sc->exclude) PetscFunctionReturn(PETSC_SUCCESS);
+  for (PetscInt i = 0; i < na && !*excluded; i++)
+    for (PetscInt j = 0; j < nb && !*excluded; j++) PetscCall(sc->exclude(sc->exclude_ctx, pa[i], pb[j], excluded));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Must the primitives with particles pa[0..na) and pb[0..nb) (natural) never be in contact? */
+static PetscErrorCode Excluded(ClothSelfContact sc, const PetscInt pa[], PetscInt na, const PetscInt pb[], PetscInt nb, PetscBool *excluded)
+{
+  PetscFunctionBeginUser;
+  *excluded = RingExcluded(sc, pa, na, pb, nb);
+  if (!*excluded) PetscCall(CallbackExcluded(sc, pa, na, pb, nb, excluded));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -281,39 +299,53 @@ PetscErrorCode SelfContactSumRemoteInto(ClothSelfContact sc, Vec remote, Vec glo
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* Contact-local numbering and positions: owned particles, then the remote ones. */
-/* Contact-local numbering, positions and displacements over the step (h velocity; zero without velocity):
-   owned particles, then the remote ones. */
-static PetscErrorCode GatherContactLocal(ClothSelfContact sc, const PetscScalar x[], Vec velocity, PetscReal h)
+/* Contact-local numbering of a new list: owned particles (solver order), then the remote ones. */
+static PetscErrorCode SetContactLocalNumbering(ClothSelfContact sc)
 {
   const ClothLayout *layout = &sc->layout;
   const PetscInt     n      = layout->nlocal + sc->nremote;
-  const PetscScalar *xr, *v = NULL, *vr = NULL;
 
   PetscFunctionBeginUser;
   if (sc->natural_of)
     for (PetscInt k = 0; k < layout->nlocal + sc->nremote_prev; k++) sc->contact_index[sc->natural_of[k]] = -1;
-  PetscCall(PetscFree(sc->natural_of));
-  PetscCall(PetscFree2(sc->x, sc->dx));
-  PetscCall(PetscMalloc1(n + 1, &sc->natural_of));
-  PetscCall(PetscCalloc2(3 * n + 1, &sc->x, 3 * n + 1, &sc->dx));
+  if (n > sc->nalloc) {
+    PetscCall(PetscFree(sc->natural_of));
+    PetscCall(PetscFree3(sc->x, sc->dx, sc->x0));
+    sc->nalloc = n + n / 4;
+    PetscCall(PetscMalloc1(sc->nalloc + 1, &sc->natural_of));
+    PetscCall(PetscMalloc3(3 * sc->nalloc + 1, &sc->x, 3 * sc->nalloc + 1, &sc->dx, 3 * sc->nalloc + 1, &sc->x0));
+  }
+  for (PetscInt k = 0; k < n; k++) {
+    sc->natural_of[k]                    = k < layout->nlocal ? layout->natural_of_local[k] : sc->remote_natural[k - layout->nlocal];
+    sc->contact_index[sc->natural_of[k]] = k;
+  }
+  sc->nremote_prev = sc->nremote;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Contact-local positions and displacements over the step (h velocity; zero without velocity). Collective. */
+static PetscErrorCode LoadContactLocalState(ClothSelfContact sc, Vec velocity, PetscReal h)
+{
+  const ClothLayout *layout = &sc->layout;
+  const PetscInt     n      = layout->nlocal + sc->nremote;
+  const PetscScalar *x, *xr, *v = NULL, *vr = NULL;
+
+  PetscFunctionBeginUser;
   if (velocity) {
     PetscCall(SelfContactRefreshRemote(sc, velocity, sc->vremote));
     PetscCall(VecGetArrayRead(velocity, &v));
     PetscCall(VecGetArrayRead(sc->vremote, &vr));
   }
   PetscCall(SelfContactRefreshRemote(sc, sc->position, sc->xremote));
+  PetscCall(VecGetArrayRead(sc->position, &x));
   PetscCall(VecGetArrayRead(sc->xremote, &xr));
   for (PetscInt k = 0; k < n; k++) {
     const PetscBool owned = k < layout->nlocal ? PETSC_TRUE : PETSC_FALSE;
-    sc->natural_of[k]     = owned ? layout->natural_of_local[k] : sc->remote_natural[k - layout->nlocal];
     for (PetscInt c = 0; c < 3; c++) sc->x[3 * k + c] = PetscRealPart(owned ? x[3 * k + c] : xr[3 * (k - layout->nlocal) + c]);
-    if (v)
-      for (PetscInt c = 0; c < 3; c++) sc->dx[3 * k + c] = h * PetscRealPart(owned ? v[3 * k + c] : vr[3 * (k - layout->nlocal) + c]);
-    sc->contact_index[sc->natural_of[k]] = k;
+    for (PetscInt c = 0; c < 3; c++) sc->dx[3 * k + c] = v ? h * PetscRealPart(owned ? v[3 * k + c] : vr[3 * (k - layout->nlocal) + c]) : 0.0;
   }
-  sc->nremote_prev = sc->nremote;
   PetscCall(VecRestoreArrayRead(sc->xremote, &xr));
+  PetscCall(VecRestoreArrayRead(sc->position, &x));
   if (velocity) {
     PetscCall(VecRestoreArrayRead(sc->vremote, &vr));
     PetscCall(VecRestoreArrayRead(velocity, &v));
@@ -322,31 +354,43 @@ static PetscErrorCode GatherContactLocal(ClothSelfContact sc, const PetscScalar 
 }
 
 /* ------------------------------------------------------------------------------------------------ */
-/* Search                                                                                           */
+/* Candidate list                                                                                   */
 
-static PetscErrorCode AppendContact(ClothSelfContact sc, const ClothContact *contact)
+static PetscErrorCode AppendCandidate(ClothSelfContact sc, ClothContactKind kind, const PetscInt p[SELF_CONTACT_NP])
 {
-  PetscFunctionBeginUser;
-  if (sc->ncontacts == sc->maxcontacts) {
-    ClothContact *contacts;
-    PetscInt     *local;
+  SelfContactCandidate *cand;
 
-    sc->maxcontacts = 2 * sc->maxcontacts + 64;
-    PetscCall(PetscMalloc2(sc->maxcontacts, &contacts, SELF_CONTACT_NP * sc->maxcontacts, &local));
-    PetscCall(PetscArraycpy(contacts, sc->contacts, sc->ncontacts));
-    PetscCall(PetscArraycpy(local, sc->local, SELF_CONTACT_NP * sc->ncontacts));
-    PetscCall(PetscFree2(sc->contacts, sc->local));
-    sc->contacts = contacts;
-    sc->local    = local;
+  PetscFunctionBeginUser;
+  if (sc->ncandidates == sc->maxcandidates) {
+    SelfContactCandidate *more;
+
+    sc->maxcandidates = 2 * sc->maxcandidates + 256;
+    PetscCall(PetscMalloc1(sc->maxcandidates, &more));
+    PetscCall(PetscArraycpy(more, sc->candidates, sc->ncandidates));
+    PetscCall(PetscFree(sc->candidates));
+    sc->candidates = more;
   }
-  sc->contacts[sc->ncontacts] = *contact;
-  for (PetscInt k = 0; k < SELF_CONTACT_NP; k++) sc->local[SELF_CONTACT_NP * sc->ncontacts + k] = sc->contact_index[contact->p[k]];
-  sc->ncontacts++;
+  cand       = &sc->candidates[sc->ncandidates++];
+  cand->kind = kind;
+  for (PetscInt k = 0; k < SELF_CONTACT_NP; k++) {
+    cand->p[k]     = p[k];
+    cand->local[k] = sc->contact_index[p[k]];
+  }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* Primitives (nv vertices each) whose vertices are all present here, with their boxes inflated by
-   inflate; also the longest edge among them. */
+static int CompareCandidates(const void *pa, const void *pb)
+{
+  const SelfContactCandidate *a = (const SelfContactCandidate *)pa, *b = (const SelfContactCandidate *)pb;
+
+  if (a->kind != b->kind) return a->kind < b->kind ? -1 : 1;
+  for (PetscInt k = 0; k < SELF_CONTACT_NP; k++)
+    if (a->p[k] != b->p[k]) return a->p[k] < b->p[k] ? -1 : 1;
+  return 0;
+}
+
+/* Primitives (nv vertices each) whose vertices are all present here, with their boxes at the current positions
+   inflated by inflate; also the longest edge among them. */
 static PetscErrorCode CollectPrimitives(ClothSelfContact sc, PetscInt nv, const PetscInt prim[], const PetscInt start[], const PetscInt of[], PetscInt mark[], PetscReal inflate, PetscInt *n, PetscInt **list, PetscReal **boxes, PetscReal *longest)
 {
   const PetscInt nparticles = sc->layout.nlocal + sc->nremote;
@@ -369,12 +413,9 @@ static PetscErrorCode CollectPrimitives(ClothSelfContact sc, PetscInt nv, const 
   }
   PetscCall(PetscMalloc1(6 * *n + 1, boxes));
   for (PetscInt k = 0; k < *n; k++) {
-    const PetscReal *xs[3], *ds[3];
-    for (PetscInt v = 0; v < nv; v++) {
-      xs[v] = &sc->x[3 * sc->contact_index[prim[nv * (*list)[k] + v]]];
-      ds[v] = &sc->dx[3 * sc->contact_index[prim[nv * (*list)[k] + v]]];
-    }
-    SweptBoxOf(xs, ds, nv, inflate, &(*boxes)[6 * k]);
+    const PetscReal *xs[3];
+    for (PetscInt v = 0; v < nv; v++) xs[v] = &sc->x[3 * sc->contact_index[prim[nv * (*list)[k] + v]]];
+    BoxOf(xs, nv, inflate, &(*boxes)[6 * k]);
     for (PetscInt v = 0; v < nv; v++) {
       const PetscReal *b    = xs[(v + 1) % nv];
       PetscReal        d[3] = {b[0] - xs[v][0], b[1] - xs[v][1], b[2] - xs[v][2]};
@@ -405,6 +446,30 @@ static void ContactRegion(ClothSelfContact sc, PetscReal inflate, PetscReal regi
 static PetscInt SelfContactMaxCells(ClothSelfContact sc)
 {
   return 8 * (sc->layout.nlocal + sc->nremote) + 64;
+}
+
+/* ------------------------------------------------------------------------------------------------ */
+/* Search                                                                                           */
+
+static PetscErrorCode AppendContact(ClothSelfContact sc, const ClothContact *contact, const PetscInt local[SELF_CONTACT_NP])
+{
+  PetscFunctionBeginUser;
+  if (sc->ncontacts == sc->maxcontacts) {
+    ClothContact *contacts;
+    PetscInt     *more;
+
+    sc->maxcontacts = 2 * sc->maxcontacts + 64;
+    PetscCall(PetscMalloc2(sc->maxcontacts, &contacts, SELF_CONTACT_NP * sc->maxcontacts, &more));
+    PetscCall(PetscArraycpy(contacts, sc->contacts, sc->ncontacts));
+    PetscCall(PetscArraycpy(more, sc->local, SELF_CONTACT_NP * sc->ncontacts));
+    PetscCall(PetscFree2(sc->contacts, sc->local));
+    sc->contacts = contacts;
+    sc->local    = more;
+  }
+  sc->contacts[sc->ncontacts] = *contact;
+  for (PetscInt k = 0; k < SELF_CONTACT_NP; k++) sc->local[SELF_CONTACT_NP * sc->ncontacts + k] = local[k];
+  sc->ncontacts++;
+  PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 /* Is the state the search sees finite? Collective. *nonfinite: the lowest natural index of a particle
@@ -444,8 +509,9 @@ static PetscErrorCode CheckSearchFinite(ClothSelfContact sc, const PetscReal reg
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* Every owned particle against the triangles of the cells its path over the step touches. */
-static PetscErrorCode FindPointTriangle(ClothSelfContact sc, PetscReal radius, const PetscReal region[6], PetscReal cell, PetscInt ntri, const PetscInt tris[], const PetscReal boxes[])
+/* Candidates: every owned particle against the triangles within reach (the triangles' boxes are inflated by it) that
+   it lies closer than reach to. */
+static PetscErrorCode FindPointTriangle(ClothSelfContact sc, PetscReal reach, const PetscReal region[6], PetscReal cell, PetscInt ntri, const PetscInt tris[], const PetscReal boxes[])
 {
   CellGrid        g = sc->triangle_grid;
   PetscInt        n[3];
@@ -455,11 +521,11 @@ static PetscErrorCode FindPointTriangle(ClothSelfContact sc, PetscReal radius, c
   PetscCall(CellGridBuild(g, region, region + 3, cell, SelfContactMaxCells(sc), ntri, boxes, boxes + 3, 6));
   CellGridGetCells(g, n, &start, &item);
   for (PetscInt k = 0; k < sc->layout.nlocal; k++) {
-    const PetscReal *p = &sc->x[3 * k], *dp = &sc->dx[3 * k];
+    const PetscReal *p = &sc->x[3 * k];
     PetscReal        pbox[6];
     PetscInt         lo[3], hi[3];
 
-    SweptBoxOf(&p, &dp, 1, 0.0, pbox);
+    BoxOf(&p, 1, 0.0, pbox);
     CellGridGetCellRange(g, pbox, pbox + 3, lo, hi);
     sc->visit++;
     for (PetscInt i = lo[0]; i <= hi[0]; i++)
@@ -467,23 +533,21 @@ static PetscErrorCode FindPointTriangle(ClothSelfContact sc, PetscReal radius, c
         for (PetscInt l = lo[2]; l <= hi[2]; l++) {
           const PetscInt c = CellGridCellIndex(n, i, j, l);
           for (PetscInt q = start[c]; q < start[c + 1]; q++) {
-            const PetscInt   tid = tris[item[q]], *t = &sc->tri[3 * tid], point = sc->natural_of[k];
-            const PetscReal *xs[SELF_CONTACT_NP], *ds[SELF_CONTACT_NP];
+            const PetscInt   tid = tris[item[q]], *t = &sc->tri[3 * tid];
+            const PetscReal *xs[SELF_CONTACT_NP];
             ClothContact     contact;
-            PetscBool        excluded, hit;
+            PetscBool        hit;
 
             if (sc->tri_mark[tid] == sc->visit) continue;
             sc->tri_mark[tid] = sc->visit;
             if (!Boxes6Overlap(pbox, &boxes[6 * item[q]])) continue;
-            PetscCall(Excluded(sc, &point, 1, t, 3, &excluded));
-            if (excluded) continue;
-            xs[0] = p, ds[0] = dp;
-            for (PetscInt v = 0; v < 3; v++) xs[1 + v] = &sc->x[3 * sc->contact_index[t[v]]], ds[1 + v] = &sc->dx[3 * sc->contact_index[t[v]]];
-            TestPointTriangle(xs, ds, radius, &contact, &hit);
-            if (!hit) continue;
-            contact.p[0] = point;
+            contact.p[0] = sc->natural_of[k];
             for (PetscInt v = 0; v < 3; v++) contact.p[1 + v] = t[v];
-            PetscCall(AppendContact(sc, &contact));
+            if (RingExcluded(sc, contact.p, 1, t, 3)) continue;
+            xs[0] = p;
+            for (PetscInt v = 0; v < 3; v++) xs[1 + v] = &sc->x[3 * sc->contact_index[t[v]]];
+            TestPointTriangle(xs, NULL, reach, &contact, &hit);
+            if (hit) PetscCall(AppendCandidate(sc, CLOTH_CONTACT_POINT_TRIANGLE, contact.p));
           }
         }
   }
@@ -514,8 +578,9 @@ static PetscBool HandlesEdgePair(ClothSelfContact sc, PetscInt e1, PetscInt e2, 
   return sc->layout.part[p[(e1 + e2) % 4]] == sc->rank ? PETSC_TRUE : PETSC_FALSE;
 }
 
-/* Every edge with an owned particle against the edges in the cells its box touches. */
-static PetscErrorCode FindEdgeEdge(ClothSelfContact sc, PetscReal radius, const PetscReal region[6], PetscReal cell, PetscInt nedge, const PetscInt edges[], const PetscReal boxes[])
+/* Candidates: every edge with an owned particle against the edges in the cells its box touches (boxes inflated by
+   half the reach) that it comes closer than reach to. */
+static PetscErrorCode FindEdgeEdge(ClothSelfContact sc, PetscReal reach, const PetscReal region[6], PetscReal cell, PetscInt nedge, const PetscInt edges[], const PetscReal boxes[])
 {
   CellGrid        g = sc->edge_grid;
   PetscInt        lo[3], hi[3], n[3];
@@ -535,9 +600,9 @@ static PetscErrorCode FindEdgeEdge(ClothSelfContact sc, PetscReal radius, const 
           const PetscInt c = CellGridCellIndex(n, i, j, l);
           for (PetscInt q = start[c]; q < start[c + 1]; q++) {
             const PetscInt   k2 = item[q], e2 = edges[k2], first = PetscMin(e1, e2), second = PetscMax(e1, e2);
-            const PetscReal *xs[SELF_CONTACT_NP], *ds[SELF_CONTACT_NP];
+            const PetscReal *xs[SELF_CONTACT_NP];
             ClothContact     contact;
-            PetscBool        excluded, hit;
+            PetscBool        hit;
 
             if (e2 <= e1 && (e2 == e1 || EdgeHasOwned(sc, e2))) continue; /* itself, or found from e2 */
             if (!CellOwnsPair(low_cell, k1, k2, i, j, l)) continue;       /* met in another cell */
@@ -545,11 +610,10 @@ static PetscErrorCode FindEdgeEdge(ClothSelfContact sc, PetscReal radius, const 
             contact.p[0] = sc->edge[2 * first], contact.p[1] = sc->edge[2 * first + 1];
             contact.p[2] = sc->edge[2 * second], contact.p[3] = sc->edge[2 * second + 1];
             if (!HandlesEdgePair(sc, e1, e2, contact.p)) continue;
-            PetscCall(Excluded(sc, contact.p, 2, &contact.p[2], 2, &excluded));
-            if (excluded) continue;
-            for (PetscInt v = 0; v < 4; v++) xs[v] = &sc->x[3 * sc->contact_index[contact.p[v]]], ds[v] = &sc->dx[3 * sc->contact_index[contact.p[v]]];
-            TestEdgeEdge(xs, ds, radius, &contact, &hit);
-            if (hit) PetscCall(AppendContact(sc, &contact));
+            if (RingExcluded(sc, contact.p, 2, &contact.p[2], 2)) continue;
+            for (PetscInt v = 0; v < 4; v++) xs[v] = &sc->x[3 * sc->contact_index[contact.p[v]]];
+            TestEdgeEdge(xs, NULL, reach, &contact, &hit);
+            if (hit) PetscCall(AppendCandidate(sc, CLOTH_CONTACT_EDGE_EDGE, contact.p));
           }
         }
   }
@@ -586,18 +650,126 @@ static PetscErrorCode LongestLink(ClothSelfContact sc, PetscReal *longest)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* The largest particle speed. Collective. */
-static PetscErrorCode MaxSpeed(ClothSelfContact sc, Vec velocity, PetscReal *vmax)
+/* motion[0]: the largest displacement of a particle since the candidate list was built (infinite when there is no
+   list); motion[1]: the largest travel h |v| over the step (0 without velocity); both over all ranks, infinite when
+   a value is not finite (the build then checks the state). One reduction: the only one of a search that reuses the
+   list. Collective. */
+static PetscErrorCode ParticleMotion(ClothSelfContact sc, Vec velocity, PetscReal h, PetscReal motion[2])
 {
-  const PetscScalar *v;
-  PetscReal          local = 0;
+  const PetscInt     n        = sc->layout.nlocal;
+  PetscReal          local[2] = {0, 0};
+  const PetscScalar *x, *v;
 
   PetscFunctionBeginUser;
-  PetscCall(VecGetArrayRead(velocity, &v));
-  for (PetscInt i = 0; i < sc->layout.nlocal; i++) local = PetscMax(local, PetscRealPart(v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] + v[3 * i + 2] * v[3 * i + 2]));
-  PetscCall(VecRestoreArrayRead(velocity, &v));
-  PetscCallMPI(MPI_Allreduce(&local, vmax, 1, MPIU_REAL, MPIU_MAX, sc->comm));
-  *vmax = PetscSqrtReal(*vmax);
+  PetscCall(VecGetArrayRead(sc->position, &x));
+  if (!sc->list_valid) local[0] = PETSC_INFINITY;
+  for (PetscInt i = 0; i < n && sc->list_valid; i++) {
+    const PetscReal d[3] = {PetscRealPart(x[3 * i]) - sc->x0[3 * i], PetscRealPart(x[3 * i + 1]) - sc->x0[3 * i + 1], PetscRealPart(x[3 * i + 2]) - sc->x0[3 * i + 2]}, dd = Dot3(d, d);
+    local[0] = PetscIsInfOrNanReal(dd) ? PETSC_INFINITY : PetscMax(local[0], dd); /* PetscMax would drop a NaN */
+  }
+  PetscCall(VecRestoreArrayRead(sc->position, &x));
+  if (velocity && h > 0) {
+    PetscCall(VecGetArrayRead(velocity, &v));
+    for (PetscInt i = 0; i < n; i++) {
+      const PetscReal vv = PetscRealPart(v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] + v[3 * i + 2] * v[3 * i + 2]);
+      local[1]           = PetscIsInfOrNanReal(vv) ? PETSC_INFINITY : PetscMax(local[1], vv);
+    }
+    PetscCall(VecRestoreArrayRead(velocity, &v));
+  }
+  local[0] = PetscSqrtReal(local[0]);
+  local[1] = h * PetscSqrtReal(local[1]);
+  PetscCallMPI(MPI_Allreduce(local, motion, 2, MPIU_REAL, MPIU_MAX, sc->comm));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Builds the candidate list for searches within radius at the current state, and allowing travel (the largest
+   h |v| now) plus the skin (a fraction of the radius) of motion before the next build: exchange of the particles near
+   other ranks within its reach and the cell grids. *ok false: the state is not finite (no list). Collective. */
+static PetscErrorCode BuildCandidates(ClothSelfContact sc, PetscReal radius, Vec velocity, PetscReal h, PetscReal travel, PetscBool *ok)
+{
+  const PetscReal    budget = sc->skin * radius + travel, reach = radius + 2 * budget;
+  const PetscScalar *x;
+  PetscReal          link, longest = 0, region[6], far;
+  PetscInt           nrecv, *recv, ntri, nedge, *tris, *edges, nonfinite, farthest;
+  PetscReal         *tboxes, *eboxes;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscLogEventBegin(ClothLog.self_build, 0, 0, 0, 0));
+  sc->list_valid     = PETSC_FALSE;
+  sc->any_candidates = PETSC_FALSE;
+  sc->ncandidates    = 0;
+  *ok                = PETSC_FALSE;
+  PetscCall(LongestLink(sc, &link));
+  PetscCall(VecGetArrayRead(sc->position, &x));
+  /* a contact's handler owns one of its particles; the others lie within reach + 2 triangle edges */
+  PetscCall(ExchangeNearParticles(sc, x, reach + 4 * link, &nrecv, &recv));
+  PetscCall(VecRestoreArrayRead(sc->position, &x));
+  PetscCall(SetRemoteParticles(sc, nrecv, recv));
+  PetscCall(SetContactLocalNumbering(sc));
+  PetscCall(LoadContactLocalState(sc, velocity, h));
+  ContactRegion(sc, reach, region);
+  PetscCall(CheckSearchFinite(sc, region, &nonfinite, &farthest, &far));
+  if (nonfinite >= 0) {
+    /* a diverged state has no meaningful contacts; the integrator's test of the state at the end of the
+       step fails that step, which is halved and, failing at every size, ends the run at its last good
+       state, as it does without self-collision */
+    PetscCall(PetscInfo(NULL, "Self-collision search skipped: particle %" PetscInt_FMT " (natural numbering) has a non-finite position or velocity\n", nonfinite));
+    PetscCall(PetscLogEventEnd(ClothLog.self_build, 0, 0, 0, 0));
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
+  PetscCheck(farthest < 0, sc->comm, PETSC_ERR_FP,
+             "Self-collision: the region that the particles sweep over a step of %g s, widened by the contact radius %g m, is too large for a cell grid: particle %" PetscInt_FMT
+             " (natural numbering) reaches %g m from the origin. The state has diverged, or the self-collision thickness is far too large",
+             (double)h, (double)radius, farthest, (double)far);
+  PetscCall(CollectPrimitives(sc, 3, sc->tri, sc->tri_start, sc->tri_of, sc->tri_mark, reach, &ntri, &tris, &tboxes, &longest));
+  PetscCall(CollectPrimitives(sc, 2, sc->edge, sc->edge_start, sc->edge_of, sc->edge_mark, 0.5 * reach, &nedge, &edges, &eboxes, &longest));
+  PetscCall(FindPointTriangle(sc, reach, region, PetscMax(reach, longest), ntri, tris, tboxes));
+  PetscCall(FindEdgeEdge(sc, reach, region, PetscMax(reach, longest), nedge, edges, eboxes));
+  PetscCall(PetscFree(tris));
+  PetscCall(PetscFree(tboxes));
+  PetscCall(PetscFree(edges));
+  PetscCall(PetscFree(eboxes));
+  if (sc->ncandidates) qsort(sc->candidates, (size_t)sc->ncandidates, sizeof(SelfContactCandidate), CompareCandidates);
+  sc->any_candidates = sc->ncandidates > 0 ? PETSC_TRUE : PETSC_FALSE;
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &sc->any_candidates, 1, MPIU_BOOL, MPI_LOR, sc->comm));
+  PetscCall(PetscArraycpy(sc->x0, sc->x, 3 * (sc->layout.nlocal + sc->nremote)));
+  sc->list_valid  = PETSC_TRUE;
+  sc->list_radius = radius;
+  sc->list_budget = budget;
+  sc->builds++;
+  sc->candidates_built += sc->ncandidates;
+  *ok = PETSC_TRUE;
+  PetscCall(PetscLogEventEnd(ClothLog.self_build, 0, 0, 0, 0));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The contacts: the candidates within radius plus their travel (see Within) that the exclusion callback allows. */
+static PetscErrorCode FilterCandidates(ClothSelfContact sc, PetscReal radius)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscLogEventBegin(ClothLog.self_filter, 0, 0, 0, 0));
+  sc->ncontacts = 0;
+  for (PetscInt c = 0; c < sc->ncandidates; c++) {
+    const SelfContactCandidate *cand = &sc->candidates[c];
+    const PetscReal            *xs[SELF_CONTACT_NP], *ds[SELF_CONTACT_NP];
+    ClothContact                contact;
+    PetscBool                   hit, excluded;
+
+    for (PetscInt v = 0; v < SELF_CONTACT_NP; v++) xs[v] = &sc->x[3 * cand->local[v]], ds[v] = &sc->dx[3 * cand->local[v]];
+    if (cand->kind == CLOTH_CONTACT_POINT_TRIANGLE)
+      TestPointTriangle(xs, ds, radius, &contact, &hit);
+    else
+      TestEdgeEdge(xs, ds, radius, &contact, &hit);
+    if (!hit) continue;
+    if (cand->kind == CLOTH_CONTACT_POINT_TRIANGLE)
+      PetscCall(CallbackExcluded(sc, cand->p, 1, &cand->p[1], 3, &excluded));
+    else
+      PetscCall(CallbackExcluded(sc, cand->p, 2, &cand->p[2], 2, &excluded));
+    if (excluded) continue;
+    for (PetscInt v = 0; v < SELF_CONTACT_NP; v++) contact.p[v] = cand->p[v];
+    PetscCall(AppendContact(sc, &contact, cand->local));
+  }
+  PetscCall(PetscLogEventEnd(ClothLog.self_filter, 0, 0, 0, 0));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -605,43 +777,18 @@ static PetscErrorCode MaxSpeed(ClothSelfContact sc, Vec velocity, PetscReal *vma
    velocity (NULL: no travel), at the cloth's current positions. Collective. */
 PetscErrorCode SelfContactSearch(ClothSelfContact sc, PetscReal radius, Vec velocity, PetscReal h)
 {
-  const PetscScalar *x;
-  PetscReal          link, longest = 0, region[6], vmax = 0, reach;
-  PetscInt           nrecv, *recv, ntri, nedge, *tris, *edges, nonfinite, farthest;
-  PetscReal         *tboxes, *eboxes;
+  PetscReal motion[2];
+  PetscBool ok = PETSC_TRUE;
 
   PetscFunctionBeginUser;
-  PetscCall(LongestLink(sc, &link));
-  if (velocity) PetscCall(MaxSpeed(sc, velocity, &vmax));
-  PetscCall(VecGetArrayRead(sc->position, &x));
-  /* a contact's handler owns one of its particles; the others lie within radius + 2 triangle edges
-     + the travel of two particles */
-  PetscCall(ExchangeNearParticles(sc, x, radius + 4 * link + 2 * h * vmax, &nrecv, &recv));
-  PetscCall(SetRemoteParticles(sc, nrecv, recv));
-  PetscCall(GatherContactLocal(sc, x, velocity, h));
-  PetscCall(VecRestoreArrayRead(sc->position, &x));
+  PetscCall(ParticleMotion(sc, velocity, h, motion));
   sc->ncontacts = 0;
-  ContactRegion(sc, radius, region);
-  PetscCall(CheckSearchFinite(sc, region, &nonfinite, &farthest, &reach));
-  if (nonfinite >= 0) {
-    /* a diverged state has no meaningful contacts; the integrator's test of the state at the end of the
-       step fails that step, which is halved and, failing at every size, ends the run at its last good
-       state, as it does without self-collision */
-    PetscCall(PetscInfo(NULL, "Self-collision search skipped: particle %" PetscInt_FMT " (natural numbering) has a non-finite position or velocity\n", nonfinite));
-    PetscFunctionReturn(PETSC_SUCCESS);
-  }
-  PetscCheck(farthest < 0, sc->comm, PETSC_ERR_FP,
-             "Self-collision: the region that the particles sweep over a step of %g s, widened by the contact radius %g m, is too large for a cell grid: particle %" PetscInt_FMT
-             " (natural numbering) reaches %g m from the origin. The state has diverged, or the self-collision thickness is far too large",
-             (double)h, (double)radius, farthest, (double)reach);
-  PetscCall(CollectPrimitives(sc, 3, sc->tri, sc->tri_start, sc->tri_of, sc->tri_mark, radius, &ntri, &tris, &tboxes, &longest));
-  PetscCall(CollectPrimitives(sc, 2, sc->edge, sc->edge_start, sc->edge_of, sc->edge_mark, 0.5 * radius, &nedge, &edges, &eboxes, &longest));
-  PetscCall(FindPointTriangle(sc, radius, region, PetscMax(radius, longest), ntri, tris, tboxes));
-  PetscCall(FindEdgeEdge(sc, radius, region, PetscMax(radius, longest), nedge, edges, eboxes));
-  PetscCall(PetscFree(tris));
-  PetscCall(PetscFree(tboxes));
-  PetscCall(PetscFree(edges));
-  PetscCall(PetscFree(eboxes));
+  if (sc->list_valid && radius == sc->list_radius && motion[0] + motion[1] <= sc->list_budget) {
+    if (!sc->any_candidates) PetscFunctionReturn(PETSC_SUCCESS); /* no contact possible anywhere */
+    PetscCall(LoadContactLocalState(sc, velocity, h));
+  } else
+    PetscCall(BuildCandidates(sc, radius, velocity, h, motion[1], &ok));
+  if (ok) PetscCall(FilterCandidates(sc, radius));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -104,6 +104,76 @@ static PetscErrorCode CountKinds(PetscInt n, const ClothContact c[], PetscInt co
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* The search at natural-order positions x (set as the cloth's state) against brute force: the same contacts, with
+   the same distances (1e-14 m), at least min_contacts of each kind. Returns every rank's contacts (sorted). Collective. */
+static PetscErrorCode CompareWithBruteForce(Cloth cloth, ClothSelfContact sc, const PetscReal x[], PetscReal radius, PetscInt min_contacts, PetscInt *nall, ClothContact **all)
+{
+  PetscInt            n, nbrute, kinds[2];
+  const ClothContact *found;
+  ClothContact       *brute;
+
+  PetscFunctionBeginUser;
+  PetscCall(SetState(cloth, x));
+  PetscCall(ClothSelfContactFind(sc, radius));
+  PetscCall(ClothSelfContactGetContacts(sc, &n, &found));
+  PetscCall(GatherContacts(PETSC_COMM_WORLD, n, found, nall, all));
+  PetscCall(ClothSelfContactFindBruteForce(sc, x, radius, &nbrute, &brute));
+  qsort(brute, (size_t)nbrute, sizeof(ClothContact), CompareContacts);
+  PetscCall(CountKinds(nbrute, brute, kinds));
+  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "brute force: %" PetscInt_FMT " point-triangle, %" PetscInt_FMT " edge-edge contacts within %g m\n", kinds[0], kinds[1], (double)radius));
+  PetscCheck(kinds[0] >= min_contacts && kinds[1] >= min_contacts, PETSC_COMM_WORLD, PETSC_ERR_PLIB, "the crumpled configuration has too few contacts to test anything (%" PetscInt_FMT ", %" PetscInt_FMT ")", kinds[0], kinds[1]);
+  PetscCall(CountKinds(*nall, *all, kinds));
+  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "cell grid:   %" PetscInt_FMT " point-triangle, %" PetscInt_FMT " edge-edge contacts\n", kinds[0], kinds[1]));
+  PetscCheck(*nall == nbrute, PETSC_COMM_WORLD, PETSC_ERR_PLIB, "the cell-grid search found %" PetscInt_FMT " contacts, brute force %" PetscInt_FMT, *nall, nbrute);
+  for (PetscInt k = 0; k < *nall; k++) {
+    const ClothContact *a = &(*all)[k], *b = &brute[k];
+    PetscCheck(CompareContacts(a, b) == 0, PETSC_COMM_WORLD, PETSC_ERR_PLIB,
+               "contact %" PetscInt_FMT " differs: grid (%d: %" PetscInt_FMT " %" PetscInt_FMT " %" PetscInt_FMT " %" PetscInt_FMT "), brute force (%d: %" PetscInt_FMT " %" PetscInt_FMT " %" PetscInt_FMT " %" PetscInt_FMT ")", k, (int)a->kind,
+               a->p[0], a->p[1], a->p[2], a->p[3], (int)b->kind, b->p[0], b->p[1], b->p[2], b->p[3]);
+    PetscCheck(PetscAbsReal(a->distance - b->distance) <= 1e-14, PETSC_COMM_WORLD, PETSC_ERR_PLIB, "contact %" PetscInt_FMT ": distance %.17g (grid) and %.17g (brute force)", k, (double)a->distance, (double)b->distance);
+  }
+  PetscCall(PetscFree(brute));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The candidate list's reuse: every particle moves by factor x skin x radius in its own direction (a deterministic
+   unit vector), so pairs close in by up to twice that. Below the skin (factor 0.95) the list must be reused (no build)
+   and still give exactly the brute-force contacts, new ones included; beyond it (1.5) it must be built again, with
+   the same check. Collective. */
+static PetscErrorCode CheckReuse(Cloth cloth, ClothSelfContact sc, ClothModel model, const PetscReal x[], PetscReal radius, PetscInt nstart, const ClothContact start[])
+{
+  const PetscReal factors[2] = {0.95, 1.5};
+  PetscReal       skin, *y;
+  PetscInt        builds, rebuilt;
+
+  PetscFunctionBeginUser;
+  PetscCall(ClothSelfContactGetCandidateList(sc, &skin, NULL));
+  PetscCheck(skin > 0, PETSC_COMM_WORLD, PETSC_ERR_USER_INPUT, "-check_reuse needs a positive -self_collision_skin");
+  PetscCall(PetscMalloc1(3 * model->nparticles, &y));
+  for (PetscInt f = 0; f < 2; f++) {
+    PetscInt      nall, fresh = 0;
+    ClothContact *all;
+
+    for (PetscInt g = 0; g < model->nparticles; g++) {
+      PetscReal d[3], norm;
+      for (PetscInt c = 0; c < 3; c++) d[c] = Jitter(g + 7 * model->nparticles, c);
+      norm = PetscSqrtReal(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+      for (PetscInt c = 0; c < 3; c++) y[3 * g + c] = x[3 * g + c] + factors[f] * skin * radius * d[c] / norm;
+    }
+    PetscCall(ClothSelfContactGetCandidateList(sc, NULL, &builds));
+    PetscCall(CompareWithBruteForce(cloth, sc, y, radius, 1, &nall, &all));
+    PetscCall(ClothSelfContactGetCandidateList(sc, NULL, &rebuilt));
+    for (PetscInt k = 0; k < nall; k++)
+      if (!bsearch(&all[k], start, (size_t)nstart, sizeof(ClothContact), CompareContacts)) fresh++;
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "every particle moved %.2f x skin: %" PetscInt_FMT " contacts, %" PetscInt_FMT " of them new, candidate list %s\n", (double)factors[f], nall, fresh, rebuilt > builds ? "built again" : "reused"));
+    PetscCheck(fresh > 0, PETSC_COMM_WORLD, PETSC_ERR_PLIB, "no new contact after the move: the check would test nothing");
+    PetscCheck((rebuilt > builds) == (factors[f] > 1), PETSC_COMM_WORLD, PETSC_ERR_PLIB, "the candidate list was %s after a move of %.2f x skin", rebuilt > builds ? "built again" : "reused", (double)factors[f]);
+    PetscCall(PetscFree(all));
+  }
+  PetscCall(PetscFree(y));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 /* -(F(x + eps d) - F(x - eps d)) / (2 eps) with the cloth's current contacts held fixed. */
 static PetscErrorCode ForceDerivative(Cloth cloth, Vec d, PetscReal eps, Vec df)
 {
@@ -190,21 +260,21 @@ static PetscErrorCode CheckJacobian(Cloth cloth, ClothSelfContact sc, PetscReal 
 
 int main(int argc, char **argv)
 {
-  char                path[PETSC_MAX_PATH_LEN];
-  Scene               scene;
-  Cloth               cloth;
-  ClothModel          model;
-  ClothSelfContact    sc;
-  Crumple             cr = {4, 0.6, 0.3, 0};
-  PetscReal          *x;
-  PetscInt            n, nall = 0, nbrute, kinds[2], min_contacts = 100;
-  const ClothContact *found;
-  ClothContact       *all, *brute;
-  PetscBool           flg, check_jacobian = PETSC_FALSE;
-  PetscReal           eps = 1e-7, rtol = 1e-5;
+  char             path[PETSC_MAX_PATH_LEN];
+  Scene            scene;
+  Cloth            cloth;
+  ClothModel       model;
+  ClothSelfContact sc;
+  Crumple          cr = {4, 0.6, 0.3, 0};
+  PetscReal       *x;
+  PetscInt         nall = 0, min_contacts = 100;
+  ClothContact    *all;
+  PetscBool        flg, check_jacobian = PETSC_FALSE, check_reuse = PETSC_FALSE;
+  PetscReal        eps = 1e-7, rtol = 1e-5;
 
   PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
   PetscCall(PetscOptionsGetBool(NULL, NULL, "-check_jacobian", &check_jacobian, NULL));
+  PetscCall(PetscOptionsGetBool(NULL, NULL, "-check_reuse", &check_reuse, NULL));
   PetscCall(PetscOptionsGetReal(NULL, NULL, "-jacobian_eps", &eps, NULL));
   PetscCall(PetscOptionsGetReal(NULL, NULL, "-jacobian_rtol", &rtol, NULL));
   PetscCall(PetscOptionsGetString(NULL, NULL, "-scene", path, sizeof(path), &flg));
@@ -224,30 +294,12 @@ int main(int argc, char **argv)
   PetscCall(ClothGetModel(cloth, &model));
   PetscCall(PetscMalloc1(3 * model->nparticles, &x));
   PetscCall(CrumpledPositions(scene, model, &cr, x));
-  PetscCall(SetState(cloth, x));
 
-  PetscCall(ClothSelfContactFind(sc, cr.thickness));
-  PetscCall(ClothSelfContactGetContacts(sc, &n, &found));
-  PetscCall(GatherContacts(PETSC_COMM_WORLD, n, found, &nall, &all));
-  PetscCall(ClothSelfContactFindBruteForce(sc, x, cr.thickness, &nbrute, &brute));
-  qsort(brute, (size_t)nbrute, sizeof(ClothContact), CompareContacts);
-
-  PetscCall(CountKinds(nbrute, brute, kinds));
-  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "brute force: %" PetscInt_FMT " point-triangle, %" PetscInt_FMT " edge-edge contacts within %g m\n", kinds[0], kinds[1], (double)cr.thickness));
-  PetscCheck(kinds[0] >= min_contacts && kinds[1] >= min_contacts, PETSC_COMM_WORLD, PETSC_ERR_PLIB, "the crumpled configuration has too few contacts to test anything (%" PetscInt_FMT ", %" PetscInt_FMT ")", kinds[0], kinds[1]);
-  PetscCall(CountKinds(nall, all, kinds));
-  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "cell grid:   %" PetscInt_FMT " point-triangle, %" PetscInt_FMT " edge-edge contacts\n", kinds[0], kinds[1]));
-  PetscCheck(nall == nbrute, PETSC_COMM_WORLD, PETSC_ERR_PLIB, "the cell-grid search found %" PetscInt_FMT " contacts, brute force %" PetscInt_FMT, nall, nbrute);
-  for (PetscInt k = 0; k < nall; k++) {
-    PetscCheck(CompareContacts(&all[k], &brute[k]) == 0, PETSC_COMM_WORLD, PETSC_ERR_PLIB,
-               "contact %" PetscInt_FMT " differs: grid (%d: %" PetscInt_FMT " %" PetscInt_FMT " %" PetscInt_FMT " %" PetscInt_FMT "), brute force (%d: %" PetscInt_FMT " %" PetscInt_FMT " %" PetscInt_FMT " %" PetscInt_FMT ")", k, (int)all[k].kind,
-               all[k].p[0], all[k].p[1], all[k].p[2], all[k].p[3], (int)brute[k].kind, brute[k].p[0], brute[k].p[1], brute[k].p[2], brute[k].p[3]);
-    PetscCheck(PetscAbsReal(all[k].distance - brute[k].distance) <= 1e-14, PETSC_COMM_WORLD, PETSC_ERR_PLIB, "contact %" PetscInt_FMT ": distance %.17g (grid) and %.17g (brute force)", k, (double)all[k].distance, (double)brute[k].distance);
-  }
+  PetscCall(CompareWithBruteForce(cloth, sc, x, cr.thickness, min_contacts, &nall, &all));
   PetscCall(PetscPrintf(PETSC_COMM_WORLD, "identical contact sets\n"));
+  if (check_reuse) PetscCall(CheckReuse(cloth, sc, model, x, cr.thickness, nall, all));
   if (check_jacobian) PetscCall(CheckJacobian(cloth, sc, eps, rtol));
   PetscCall(PetscFree(all));
-  PetscCall(PetscFree(brute));
   PetscCall(PetscFree(x));
   PetscCall(ClothSelfContactDestroy(&sc));
   PetscCall(ClothDestroy(&cloth));
