@@ -197,7 +197,7 @@ def scene(args):
            "self_collision": {"enabled": True, "thickness": round(min(0.006, 0.75 * h), 6), "stiffness": 20},
            "run": {"integrator": "implicit", "dt": args.dt, "t_final": args.t_final, "output_every": args.output_every}}
     header = (f"# The fitted dress (issue 26), {count} particles about {h * 1000:.0f} mm apart: written by\n"
-              f"#   /usr/bin/python3 jobs/dress_fitted_pattern.py scene {h} {os.path.relpath(args.output, ROOT)} --name {args.name}"
+              f"#   /usr/bin/python3 jobs/dress_fitted_pattern.py scene {h} input/{os.path.basename(args.output)} --name {args.name}"
               f"{'' if args.t_final == 5.0 else f' --t-final {args.t_final}'}\n"
               "# from the pattern input/dress_fitted_pattern.dxf (drafted from the mannequin's measurements by\n"
               "# jobs/dress_fitted_pattern.py draft): a princess-line bodice of six panels, a half-circle skirt of two, two straps.\n"

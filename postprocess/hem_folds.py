@@ -129,6 +129,7 @@ def main():
     parser.add_argument("--scene", help="the run's scene (piece grids, gravity)")
     parser.add_argument("--pieces", default="skirt_front,skirt_back", help="the skirt pieces, comma-separated, in the hem's order")
     parser.add_argument("--depth", type=float, default=0.01, help="a fold's least prominence (crest above trough, radially), m (default 0.01)")
+    parser.add_argument("--time", type=float, help="of a series: the frame nearest this time, s (default: the last frame)")
     parser.add_argument("--json", help="also write the numbers to this JSON file")
     parser.add_argument("--self-test", action="store_true", help="check the fold count on synthetic hems")
     args = parser.parse_args()
@@ -141,8 +142,17 @@ def main():
     import cloth_state
     path = cloth_state.series_h5(args.state) if args.state.endswith(".xdmf") else args.state
     scene = cloth_state.read_scene(args.scene)
-    hem = hem_chain(cloth_state.read_positions(path), scene, args.pieces.split(","))
+    if args.time is not None:
+        frames = cloth_state.read_series(path, datasets=("position",))[0]
+        frame = min(frames, key=lambda f: abs(f["time"] - args.time))
+        positions, when = frame["position"], frame["time"]
+    else:
+        positions, when = cloth_state.read_positions(path), None
+    hem = hem_chain(positions, scene, args.pieces.split(","))
     result = measure(hem, scene.get("gravity", [0, -9.81, 0]), args.depth)
+    if when is not None:
+        result["time"] = when
+        path += f" at t = {when:g} s"
     print(f"hem_folds: {path}: {result['hem_particles']} hem particles, height mean {result['hem_height_mean']:.4f} m, "
           f"min {result['hem_height_min']:.4f} m; {result['folds']} folds deeper than {args.depth * 1000:.0f} mm "
           f"(depths {', '.join(f'{d * 1000:.0f}' for d in result['fold_depths'])} mm)")

@@ -5,3 +5,8 @@ clothsim_add_script_test(pattern_dxf_round_trip pattern_dxf_round_trip.sh)
 # kinetic energy < 1e-3 J. Measured 2026-11-24 (cell shear model): 106/106 sewn, 0.12 mm, 0, 0, 0.016, 3.9e-7 J (36 s under load).
 clothsim_add_script_test(garment_dress_coarse garment_coarse.sh)
 set_tests_properties(garment_dress_coarse PROPERTIES TIMEOUT 1200 LABELS garment)
+# The fitted dress (issue 26): its pattern and scenes are what jobs/dress_fitted_pattern.py drafts from the
+# mannequin (tests/dress_fitted_pattern.sh, 17 s under load); the fold counter of the fine-vs-coarse comparison on
+# synthetic hems with known fold counts (postprocess/hem_folds.py --self-test, 14 hems, 0.3 s).
+clothsim_add_script_test(dress_fitted_pattern dress_fitted_pattern.sh)
+add_test(NAME hem_folds_self_test COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/postprocess/hem_folds.py --self-test)
