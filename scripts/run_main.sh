@@ -39,34 +39,9 @@ output_dir=${output_dir:-output/$name}
 echo "run_main: ${job[*]}"
 "${job[@]}"
 
-# Rendering needs an X server (ParaView 5.11's pvpython crashes with --force-offscreen-rendering): a virtual one.
-# xvfb-run -a can lose the race for a display number to another X server starting at the same moment: a
-# random start and up to three tries.
-render() {  # render VIEW COLOUR OUT.png
-  for try in 1 2 3; do
-    xvfb-run -a -n $((200 + RANDOM % 2000)) /usr/bin/pvpython postprocess/render.py "$output_dir/$name.xdmf" --frame -1 \
-      --view "$1" --color-by "$2" --size 800x1100 --out "$3" < /dev/null > "$3.log" 2>&1 && { tail -n 1 "$3.log"; rm -f "$3.log"; return 0; }
-    sleep "$try"
-  done
-  echo "run_main: the $2 render from the $1 failed (is xvfb installed?), see $3.log"
-}
-
-if [ -f "$output_dir/quality.json" ]; then
-  /usr/bin/python3 postprocess/garment_quality.py "$output_dir" --name "$name" || true
-  # The garment shaded as cloth (a colour per pattern piece), then its fit maps: strain and the pressure on the body.
-  for view in front side back; do
-    render "$view" piece "$output_dir/${name}_$view.png"
-  done
-  for map in strain pressure; do
-    for view in front back; do
-      render "$view" "$map" "$output_dir/${name}_${map}_$view.png"
-    done
-  done
-  # The movie of the assembly: the frames of the first 1.2 s (61: the pull, the sewing, the dress settling),
-  # 640x480 at 12 per second, about a minute and a half on two cores.
-  /usr/bin/python3 postprocess/movie.py "$output_dir/$name.xdmf" --out "$output_dir/$name.mp4" --frames 61 --t-max 1.2 \
-    --size 640x480 --view iso < /dev/null || echo "run_main: the movie failed (are xvfb and ffmpeg installed?)"
-fi
+# The garment's quality, its renders (shaded as cloth, fit maps) and the movie: the script jobs/main_job.sbatch
+# runs too (one copy).
+bash jobs/garment_outputs.sh "$output_dir" "$name"
 
 cat <<MSG
 

@@ -12,3 +12,8 @@ set_tests_properties(garment_dress_coarse PROPERTIES TIMEOUT 1200 LABELS garment
 # loaded 15-30 times over by other runs and paused at times (the 1,250-step coarse dress took 36 s when quieter).
 clothsim_add_script_test(garment_tshirt_coarse garment_coarse.sh input/tshirt.yaml "25 25=13 13" "21 9=11 5")
 set_tests_properties(garment_tshirt_coarse PROPERTIES TIMEOUT 1200 LABELS garment)
+# The fitted dress (issue 26): its pattern and scenes are what jobs/dress_fitted_pattern.py drafts from the
+# mannequin (tests/dress_fitted_pattern.sh, 17 s under load); the fold counter of the fine-vs-coarse comparison on
+# synthetic hems with known fold counts (postprocess/hem_folds.py --self-test, 14 hems, 0.3 s).
+clothsim_add_script_test(dress_fitted_pattern dress_fitted_pattern.sh)
+add_test(NAME hem_folds_self_test COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/postprocess/hem_folds.py --self-test)

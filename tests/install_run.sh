@@ -26,16 +26,22 @@ echo "installed $(find "$prefix" -type f | wc -l) files into $prefix"
 
 cd "$work/run"
 # CLOTHSIM is not set: the job finds PREFIX/bin/clothsim from CLOTHSIM_ROOT=PREFIX/share/clothsim
-env -u CLOTHSIM CLOTHSIM_ROOT="$share" MPIEXEC="$mpiexec" RANKS=1 STEPS=3 RENDER=0 PYTHON=/usr/bin/python3 \
+# GARMENT_OUTPUTS_CHECK=1: the pictures' commands of jobs/garment_outputs.sh (shared with scripts/run_main.sh) are
+# parsed by render.py's and movie.py's own parsers instead of run (7 stills and the movie: minutes of pvpython)
+env -u CLOTHSIM CLOTHSIM_ROOT="$share" MPIEXEC="$mpiexec" RANKS=1 STEPS=3 RENDER=1 GARMENT_OUTPUTS_CHECK=1 PYTHON=/usr/bin/python3 \
   OUTPUT_DIR=dress bash "$share/jobs/main_job.sbatch" > job.log 2>&1 || { cat job.log; fail "main_job.sbatch from the installed copy"; }
 grep -q -- "$prefix/bin/clothsim -scene input/dress.yaml" job.log || { cat job.log; fail "the job did not run the installed binary on input/dress.yaml"; }
 grep -q "run done: .*checkpoint_000003.h5 is at step 3 of 3" job.log || { cat job.log; fail "the run did not reach step 3"; }
 [ -f dress/dress.xdmf ] && [ -f dress/quality.json ] || fail "no output in $work/run/dress (OUTPUT_DIR relative to the submit directory)"
 grep -q "fabric crossings counted in frame 000003" job.log || { cat job.log; fail "the installed garment_quality.py did not run"; }
+renders=$(grep -c "^garment_outputs: render .*dress/dress.xdmf --frame -1 --view \(front\|side\|back\) --color-by \(piece\|strain\|pressure\)" job.log)
+[ "$renders" = 7 ] || { cat job.log; fail "main_job.sbatch asked for $renders renders, expected 7 (3 views shaded as cloth, strain and pressure front and back)"; }
+grep -q "^garment_outputs: movie .*dress/dress.xdmf --out .*dress/dress.mp4" job.log || { cat job.log; fail "main_job.sbatch did not ask for the movie"; }
+! grep -q "do not parse" job.log || { cat job.log; fail "a picture command of main_job.sbatch does not parse"; }
 [ ! -e "$share/dress" ] && [ ! -e "$share/output" ] || fail "the job wrote into the installed tree"
 # the binary alone, the scene given by its absolute path: the mannequin is found next to the installed scene
 "$mpiexec" -n 1 "$prefix/bin/clothsim" -scene "$share/input/dress.yaml" -steps 1 -output_dir direct > direct.log 2>&1 \
   || { cat direct.log; fail "the installed binary on the installed dress scene, from $work/run"; }
 grep -q "checkpoint direct/checkpoint_000001.h5" direct.log || { cat direct.log; fail "no checkpoint from the direct run"; }
 /usr/bin/python3 "$share/postprocess/elastica.py" --check > elastica.log || { cat elastica.log; fail "installed elastica.py --check"; }
-echo "installed copy: the main job's scene ran 3 steps from $work/run, garment_quality.py and elastica.py ran"
+echo "installed copy: the main job's scene ran 3 steps from $work/run, garment_quality.py and elastica.py ran, the 8 picture commands parse"
