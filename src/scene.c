@@ -394,7 +394,8 @@ static PetscErrorCode ReadBendBias(SceneReader *r, yaml_node_t *map, PetscInt be
     PetscCall(SceneKeyReal(r, map, key, PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "bending rigidity along the bias, N m", &fabric->bend_bias));
   if (fabric->bend_bias <= 0) PetscFunctionReturn(PETSC_SUCCESS);
   if (!has_bias && !has_ratio) { /* the preset's: it belongs to the preset's angle model and rigidities */
-    if (bend_model != CLOTH_BEND_ANGLE) fabric->bend_bias = 0;
+    if (bend_model != CLOTH_BEND_ANGLE)
+      fabric->bend_bias = 0;
     else if (fabric->bend_bias < threads * (1 - 1e-12)) { /* the scene's own bend, bend_warp or bend_weft raised the threads' share */
       const char *bend_keys[] = {"bend", "bend_warp", "bend_weft"};
 
@@ -403,7 +404,8 @@ static PetscErrorCode ReadBendBias(SceneReader *r, yaml_node_t *map, PetscInt be
         key = bend_keys[k];
         PetscCall(SceneGetValue(r, map, key, &value));
       }
-      PetscCall(SceneFailValue(r, value ? value : map, key, "bending rigidities whose thread springs give at most the preset's bias rigidity, %g N m, along the bias ((bend_warp + bend_weft) / 4 = %g N m here), or bend_bias beside them (0: none)", (double)fabric->bend_bias, (double)threads));
+      PetscCall(SceneFailValue(r, value ? value : map, key, "bending rigidities whose thread springs give at most the preset's bias rigidity, %g N m, along the bias ((bend_warp + bend_weft) / 4 = %g N m here), or bend_bias beside them (0: none)",
+                               (double)fabric->bend_bias, (double)threads));
     }
     PetscFunctionReturn(PETSC_SUCCESS);
   }
@@ -1067,7 +1069,8 @@ static PetscErrorCode SceneCheckCutPieces(SceneReader *r, Scene scene)
     if (!(scene->pieces[p].cut_disc[2] > 0)) continue;
     PetscCheck(!scene->self_collision.enabled, r->comm, PETSC_ERR_USER_INPUT, "scene %s: piece '%s': expected no cut_disc with self_collision enabled (the contact search does not know the cut), got both", r->path, scene->pieces[p].name);
     for (PetscInt s = 0; s < scene->nseams; s++)
-      PetscCheck(scene->seams[s].a.piece != p && scene->seams[s].b.piece != p, r->comm, PETSC_ERR_USER_INPUT, "scene %s: seam '%s': expected no seam on piece '%s', which is cut to a disc (cut_disc), got one", r->path, scene->seams[s].name, scene->pieces[p].name);
+      PetscCheck(scene->seams[s].a.piece != p && scene->seams[s].b.piece != p, r->comm, PETSC_ERR_USER_INPUT, "scene %s: seam '%s': expected no seam on piece '%s', which is cut to a disc (cut_disc), got one", r->path, scene->seams[s].name,
+                 scene->pieces[p].name);
   }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
