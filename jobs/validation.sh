@@ -14,8 +14,10 @@
 #       VALIDATION_PERTURBATION_WAVELENGTH L m makes them a smooth field of wavelengths L-3L, the same at every grid)
 #   VALIDATION_PUBLISHED="m1 m4" ... (only those of the published fabrics: petrak_m1_*, petrak_m4_*; none: none)
 #   VALIDATION_TRIAL_PRESETS="cotton_knit denim" ... (with VALIDATION_TRIALS: these presets run as trials too)
-#   VALIDATION_BEND_BIAS=measured ... (the four presets of Wang et al. get their measured bias bending rigidity,
-#       bend_bias, which adds the cells' twisting rigidity: docs/validation.md, section 5.1)
+#   VALIDATION_BEND_BIAS=none ... (the four presets of Wang et al. without their measured bias bending rigidity,
+#       bend_bias: 0, as the tables before 2026-11-25 were made; by default they have it: docs/validation.md, section 5.1)
+#   VALIDATION_MESH=square ... (the drape on a square grid cut to the disc, input/cusick_drape_square.yaml, instead of
+#       the transfinite disc of input/cusick_drape.yaml; no cantilever: docs/validation.md, section 5.4)
 #   VALIDATION_BEND_BIAS_RATIO=0.9 ... (the published fabrics, whose bias rigidity was not measured, get an assumed one:
 #       bend_bias_ratio, the bias rigidity over the mean of warp and weft)
 #   VALIDATION_SOLVER=mumps ... (the drape runs factor with MUMPS's Cholesky, SBAIJ matrix, instead of PETSc's own:
@@ -66,13 +68,16 @@ for preset in ${VALIDATION_TRIAL_PRESETS:-}; do
   (( ${#trials[@]} > 0 )) || { echo "VALIDATION_TRIAL_PRESETS needs VALIDATION_TRIALS" >&2; exit 1; }
   published+=("$preset=-")
 done
-# Bending rigidity along the bias of the four presets, N m: the ARCSim files' bending row 1 (hinges at 45 degrees to
-# u), column 0 (flat state), / 8 as for warp and weft (src/fabric_presets.c, docs/validation.md section 1): 11oz-black-
-# denim 73.384567e-6, royal-target 107.997696e-6, white-dots-on-blk 40.659470e-6, gray-interlock 24.749964e-6.
-declare -A bend_bias=([denim]=9.173071e-6 [cotton_polyester]=1.349971e-5 [polyester]=5.082434e-6 [cotton_knit]=3.093746e-6)
-case ${VALIDATION_BEND_BIAS:-none} in
-  none | measured) ;;
-  *) echo "VALIDATION_BEND_BIAS must be none or measured, not '$VALIDATION_BEND_BIAS'" >&2; exit 1 ;;
+# The four presets carry their measured bending rigidity along the bias (src/fabric_presets.c: the ARCSim files'
+# bending row 1, hinges at 45 degrees to u, column 0, / 8 as for warp and weft); none: bend_bias 0 in their scenes.
+case ${VALIDATION_MESH:-transfinite} in
+  transfinite) drape_scene=input/cusick_drape.yaml ;;
+  square) drape_scene=input/cusick_drape_square.yaml ;;
+  *) echo "VALIDATION_MESH must be transfinite or square, not '$VALIDATION_MESH'" >&2; exit 1 ;;
+esac
+case ${VALIDATION_BEND_BIAS:-preset} in
+  none | preset) ;;
+  *) echo "VALIDATION_BEND_BIAS must be preset or none, not '$VALIDATION_BEND_BIAS'" >&2; exit 1 ;;
 esac
 # Drape runs at once (one rank each); VALIDATION_JOBS=2 uses both cores of a 2-core machine.
 jobs=${VALIDATION_JOBS:-1}
@@ -101,7 +106,7 @@ run() { # run NAME ARGS...: one clothsim run, its log in $out/NAME.log
 
 # 1. Cantilever of every preset, the published fabrics' too: 9 overhangs 1.2-5 cm per fabric and direction (they
 #    bracket bending lengths of 0.7-2 cm), 30 segments along the overhang
-if (( ${#presets[@]} > 0 )); then
+if (( ${#presets[@]} > 0 )) && [[ $drape_scene == input/cusick_drape.yaml ]]; then
 $py postprocess/cantilever.py scene --presets "${presets[@]}" "${published[@]%%=*}" --count 9 --lmin 0.012 --lmax 0.05 --segments 30 -o "$out/cantilever.yaml"
 run cantilever -scene "$out/cantilever.yaml" -output_dir "$out/cantilever"
 $py postprocess/cantilever.py measure "$(ls "$out"/cantilever/checkpoint_*.h5 | tail -1)" --scene "$out/cantilever.yaml" --log "$out/cantilever.log" --json > "$out/cantilever.json"
@@ -127,13 +132,13 @@ add_fabric_key() { # add_fabric_key FILE KEY VALUE: one more key in the drape sc
 }
 for preset in "${presets[@]}" "${published[@]%%=*}"; do
   scene=$out/cusick_$preset.yaml
-  sed "s/preset: cotton_polyester .*/preset: $preset/" input/cusick_drape.yaml > "$scene"
+  sed "s/preset: cotton_polyester .*/preset: $preset/" $drape_scene > "$scene"
   # 1/cm -> 1/m
   [[ -z $hysteresis_ratio ]] || add_fabric_key "$scene" bend_hysteresis_ratio "$(awk "BEGIN {print 100 * $hysteresis_ratio}")"
   # degrees -> rad
   [[ -z $shear_hysteresis_ratio ]] || add_fabric_key "$scene" shear_hysteresis_ratio "$(awk "BEGIN {printf \"%.10g\", $shear_hysteresis_ratio * 3.14159265358979 / 180}")"
   [[ -z ${VALIDATION_BEND_BIAS_RATIO:-} || $preset != petrak_* ]] || add_fabric_key "$scene" bend_bias_ratio "$VALIDATION_BEND_BIAS_RATIO"
-  [[ ${VALIDATION_BEND_BIAS:-none} != measured || -z ${bend_bias[$preset]:-} ]] || add_fabric_key "$scene" bend_bias "${bend_bias[$preset]}"
+  [[ ${VALIDATION_BEND_BIAS:-preset} != none || $preset == petrak_* ]] || add_fabric_key "$scene" bend_bias 0
   for n in "${grids[@]}"; do
     for trial in "${trials[@]:-}"; do
       drape "$preset" "$n" $trial &
@@ -144,9 +149,9 @@ done
 while (( $(jobs -rp | wc -l) > 0 )); do wait -n; done
 
 # 3. Tables
-$py - "$out" "$dt" "${hysteresis_ratio:-0}" "${shear_hysteresis_ratio:-0}" "${published[*]}" "${trials[*]:-}" "$perturbation" "$perturbation_wavelength" "${grids[@]}" <<'PY' > "$out/summary.md"
+$py - "$out" "$dt" "${hysteresis_ratio:-0}" "${shear_hysteresis_ratio:-0}" "${published[*]}" "${trials[*]:-}" "$perturbation" "$perturbation_wavelength" "${presets[*]:-}" "${grids[@]}" <<'PY' > "$out/summary.md"
 import json, sys, glob, os, statistics
-out, dt, ratio, shear_ratio, published, trials, perturbation, wavelength, grids = sys.argv[1], sys.argv[2], float(sys.argv[3]), float(sys.argv[4]), sys.argv[5].split(), sys.argv[6].split(), float(sys.argv[7]), float(sys.argv[8]), sys.argv[9:]
+out, dt, ratio, shear_ratio, published, trials, perturbation, wavelength, presets, grids = sys.argv[1], sys.argv[2], float(sys.argv[3]), float(sys.argv[4]), sys.argv[5].split(), sys.argv[6].split(), float(sys.argv[7]), float(sys.argv[8]), sys.argv[9].split(), sys.argv[10:]
 cant = json.load(open(os.path.join(out, "cantilever.json"))) if os.path.exists(os.path.join(out, "cantilever.json")) else []
 if cant:
     print("| fabric | direction | c = (B/W)^(1/3) from the preset, cm | overhang l* at 41.5 deg, cm | simulated c (exact elastica), cm | error | Peirce's 0.5093 l*, cm (approximate, for comparison) |")
@@ -158,17 +163,18 @@ if cant:
         peirce = f"{r['c_peirce_cm']:.3f}" if r["c_peirce_cm"] else "-"
         print(f"| {r['fabric']} | {r['direction']} | {r['c_theory_cm']:.3f} | {lst} | {sim} | {err} | {peirce} |")
     print()
+if presets:  # their drape (without a cantilever run, VALIDATION_MESH=square, in the order given)
     print("| fabric | mean c, cm | " + " | ".join(f"DC grid {n} (folds, final max speed m/s)" for n in grids) + " | change |")
     print("|---|---|" + "---|" * (len(grids) + 1))
     mean_c = {}
     for r in cant:
         mean_c.setdefault(r["fabric"], []).append(r["c_theory_cm"])
-    measured = {pair.split("=")[0] for pair in published}  # their drape: the published table below
-    for fabric in sorted(set(mean_c) - measured, key=lambda f: sum(mean_c[f])):
+    for fabric in sorted(presets, key=lambda f: sum(mean_c[f]) / len(mean_c[f]) if f in mean_c else presets.index(f)):
         runs = [json.load(open(os.path.join(out, f"cusick_{fabric}_{n}.json"))) for n in grids]
         dcs = [r["drape_coefficient"] for r in runs]
         cells = [f"{r['drape_coefficient']:.3f} ({r['folds']}, {r['max_speed']:.0e})" for r in runs]
-        print(f"| {fabric} | {sum(mean_c[fabric]) / len(mean_c[fabric]):.3f} | " + " | ".join(cells) + f" | {dcs[-1] - dcs[0]:+.3f} |")
+        c = f"{sum(mean_c[fabric]) / len(mean_c[fabric]):.3f}" if fabric in mean_c else "-"
+        print(f"| {fabric} | {c} | " + " | ".join(cells) + f" | {dcs[-1] - dcs[0]:+.3f} |")
     print()
 hysteresis = f", bending hysteresis 2HB/B = {ratio:g} 1/cm (assumed)" if ratio > 0 else ""
 hysteresis += f", shear hysteresis 2HG/G = {shear_ratio:g} degree (assumed)" if shear_ratio > 0 else ""

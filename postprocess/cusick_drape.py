@@ -5,7 +5,8 @@ DC = (A_shadow - A_disc) / (A_specimen - A_disc), A_shadow the area of the fabri
 (onto the plane normal to gravity), A_disc = pi r_support^2, A_specimen = pi r_specimen^2 (the flat
 specimen). A_shadow is measured by rasterising every grid cell (two triangles) of the draped piece on a
 fine pixel grid, which counts overlapping folds once; the shoelace area of the projected outer boundary
-ring is printed too as a cross-check.
+ring is printed too as a cross-check. A piece cut to a disc (cut_disc, a square grid) counts only its kept cells
+(those whose centre lies in the disc, as src/pattern.c keeps them) and its outline is the kept cells' edge nodes.
 
     /usr/bin/python3 postprocess/cusick_drape.py output/cusick_drape/checkpoint_000400.h5 \\
         --scene input/cusick_drape.yaml [--grid N] [--json]
@@ -43,13 +44,42 @@ def triangle_raster_area(points2d, triangles, pixel):
     return covered.sum() * pixel * pixel
 
 
-def grid_triangles(nu, nv):
+def kept_cells(piece, nu, nv):
+    """(nv - 1, nu - 1) booleans, [j, i] for cell (i, j): every cell, or for a rectangle cut to a disc (cut_disc) the
+    cells whose centre lies within it (PatternCellKept in src/pattern.c)."""
+    kept = np.ones((nv - 1, nu - 1), dtype=bool)
+    cut = piece.get("cut_disc")
+    if cut:
+        if "size" not in piece:
+            raise ValueError(f"piece '{piece.get('name', '')}': cut_disc is measured here on rectangles (size) only")
+        su, sv = piece["size"]
+        cu = (np.arange(nu - 1) + 0.5) * su / (nu - 1)
+        cv = (np.arange(nv - 1) + 0.5) * sv / (nv - 1)
+        kept = (cu[None, :] - cut["center"][0]) ** 2 + (cv[:, None] - cut["center"][1]) ** 2 <= cut["radius"] ** 2
+    return kept
+
+
+def grid_triangles(nu, nv, kept=None):
+    """Two triangles per (kept) cell, in the piece's node numbering."""
     tris = []
     for j in range(nv - 1):
         for i in range(nu - 1):
+            if kept is not None and not kept[j, i]:
+                continue
             a, b, c, d = j * nu + i, j * nu + i + 1, (j + 1) * nu + i + 1, (j + 1) * nu + i
             tris += [(a, b, c), (a, c, d)]
     return np.array(tris)
+
+
+def edge_nodes(kept):
+    """Nodes of the kept cells' outline: corners of 1 to 3 kept cells (of a cut piece)."""
+    nv, nu = kept.shape[0] + 1, kept.shape[1] + 1
+    count = np.zeros((nv, nu), dtype=int)
+    for dj in (0, 1):
+        for di in (0, 1):
+            count[dj:dj + nv - 1, di:di + nu - 1] += kept
+    j, i = np.nonzero((count > 0) & (count < 4))
+    return j * nu + i
 
 
 def boundary_ring(nu, nv):
@@ -69,7 +99,23 @@ def count_folds(ring2d, centre, prominence=2e-3):
     """Number of folds (drape 'nodes'): local maxima of the outline's distance from the centre, going round
     the outline, that stand at least `prominence` (m) above the lowest point within 1/16 turn either side."""
     d = ring2d - centre
-    r = np.hypot(d[:, 0], d[:, 1])[np.argsort(np.arctan2(d[:, 1], d[:, 0]))]
+    return count_profile_folds(np.hypot(d[:, 0], d[:, 1])[np.argsort(np.arctan2(d[:, 1], d[:, 0]))], prominence)
+
+
+def count_cut_folds(ring2d, centre, flat_radius, support_radius, specimen_radius, prominence=2e-3):
+    """count_folds for the staircase outline of a cut grid: each node's overhang beyond the support disc, in
+    projection, scaled by the specimen's overhang over the node's flat one (the staircase's steps, up to a cell
+    across, divide out: r -> r_s + (r - r_s) (R - r_s) / (r_flat - r_s)); nodes at one angle (an inner and an outer
+    corner of a step) count once. The flat cut disc has 0 folds from 33 nodes on."""
+    d = ring2d - centre
+    theta = np.arctan2(d[:, 1], d[:, 0])
+    r = support_radius + (np.hypot(d[:, 0], d[:, 1]) - support_radius) * (specimen_radius - support_radius) / (flat_radius - support_radius)
+    _, first = np.unique(np.round(theta, 9), return_index=True)  # sorted by angle
+    return count_profile_folds(r[first], prominence)
+
+
+def count_profile_folds(r, prominence):
+    """Folds of a closed radial profile r (in angle order): see count_folds."""
     n, near, wide = len(r), max(1, len(r) // 40), max(2, len(r) // 16)
     folds = 0
     for k in range(n):
@@ -84,13 +130,26 @@ def measure(checkpoint, scene_path, grid=None, piece_index=0, support_radius=0.0
     scene = cloth_state.read_scene(scene_path)
     x = cloth_state.read_positions(checkpoint)
     name, nu, nv, offset = cloth_state.piece_grids(scene, grid)[piece_index]
+    piece = scene["pieces"][piece_index]
     p = x[offset:offset + nu * nv]
     e1, e2, _ = cloth_state.projection_basis(scene)
     p2 = np.stack([p @ e1, p @ e2], axis=1)
-    a_shadow = triangle_raster_area(p2, grid_triangles(nu, nv), pixel)
-    ring = p2[boundary_ring(nu, nv)]
+    kept = kept_cells(piece, nu, nv)
+    a_shadow = triangle_raster_area(p2, grid_triangles(nu, nv, kept), pixel)
+    if "cut_disc" in piece:  # the outline's nodes, in order of their angle around the kept nodes' centre
+        nodes = np.unique(grid_triangles(nu, nv, kept))
+        pinned_centre = p2[nodes].mean(axis=0)
+        edge = edge_nodes(kept)
+        su, sv = piece["size"]
+        flat = np.hypot(edge % nu * su / (nu - 1) - piece["cut_disc"]["center"][0], edge // nu * sv / (nv - 1) - piece["cut_disc"]["center"][1])
+        folds = count_cut_folds(p2[edge], pinned_centre, flat, support_radius, specimen_radius)
+        d = p2[edge] - pinned_centre
+        ring = p2[edge][np.argsort(np.arctan2(d[:, 1], d[:, 0]))]
+    else:
+        ring = p2[boundary_ring(nu, nv)]
+        pinned_centre = p2.mean(axis=0)
+        folds = count_folds(ring, pinned_centre)
     a_ring = shoelace(ring)
-    pinned_centre = p2.mean(axis=0)
     a_disc, a_specimen = math.pi * support_radius ** 2, math.pi * specimen_radius ** 2
     return {
         "piece": name, "grid": [nu, nv],
@@ -99,7 +158,7 @@ def measure(checkpoint, scene_path, grid=None, piece_index=0, support_radius=0.0
         "A_disc_cm2": a_disc * 1e4, "A_specimen_cm2": a_specimen * 1e4,
         "drape_coefficient": (a_shadow - a_disc) / (a_specimen - a_disc),
         "drape_coefficient_ring": (a_ring - a_disc) / (a_specimen - a_disc),
-        "folds": count_folds(ring, pinned_centre),
+        "folds": folds,
         "max_speed": cloth_state.read_speed(checkpoint),
     }
 

@@ -32,9 +32,10 @@ def draw_shadow(ax, label, checkpoint, scene_path, grid, measured):
     e1, e2, _ = cloth_state.projection_basis(scene)
     p = x[offset:offset + nu * nv]
     p2 = np.stack([p @ e1, p @ e2], axis=1) * 100  # cm
-    centre = p2.mean(axis=0)
+    triangles = cusick_drape.grid_triangles(nu, nv, cusick_drape.kept_cells(scene["pieces"][0], nu, nv))
+    centre = p2[np.unique(triangles)].mean(axis=0)
     p2 -= centre
-    ax.add_collection(PolyCollection(p2[cusick_drape.grid_triangles(nu, nv)], facecolors="0.35", edgecolors="0.35", linewidths=0.3))
+    ax.add_collection(PolyCollection(p2[triangles], facecolors="0.35", edgecolors="0.35", linewidths=0.3))
     for radius, style in ((15, "--"), (9, "-")):
         t = np.linspace(0, 2 * math.pi, 200)
         ax.plot(radius * np.cos(t), radius * np.sin(t), style, color="tab:red", lw=0.8)

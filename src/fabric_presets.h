@@ -1,8 +1,8 @@
 /* Fabric presets: real fabrics whose model values come from published measurements.
 
-   Each preset fills a SceneFabric (density, stretch, shear, bending; the cell shear model and the
-   angle bending model, linear tensile curve, no damping); a scene's fabric names one with `preset:` and may
-   override any value. Sources and derivations are cited beside every number in fabric_presets.c
+   Each preset fills a SceneFabric (density, stretch, shear, bending, and the bias bending rigidity where its source
+   measured it; the cell shear model and the angle bending model, linear tensile curve, no damping); a scene's fabric
+   names one with `preset:` and may override any value (`bend_bias: 0` drops the bias rigidity). Sources and derivations are cited beside every number in fabric_presets.c
    and summarised in docs/validation.md. */
 #pragma once
 #include "scene.h"

@@ -18,6 +18,12 @@ static inline PetscInt PieceNode(const PieceContext *pc, PetscInt i, PetscInt j)
   return j * pc->piece->nu + i;
 }
 
+/* Whether the edge from node (i, j) to node (i + di, j + dj) (di, dj in {-1, 0, 1}, one of them 0) is fabric. */
+static PetscBool PieceEdgeKept(const PieceContext *pc, PetscInt i, PetscInt j, PetscInt di, PetscInt dj)
+{
+  return PatternEdgeKept(pc->piece, pc->uv, PetscMin(i, i + di), PetscMin(j, j + dj), PetscAbsInt(di), PetscAbsInt(dj));
+}
+
 static PetscReal FlatDistance(const PieceContext *pc, PetscInt a, PetscInt b)
 {
   const PetscReal du = pc->uv[2 * a] - pc->uv[2 * b], dv = pc->uv[2 * a + 1] - pc->uv[2 * b + 1];
@@ -34,7 +40,7 @@ static PetscReal ThreadWidth(const PieceContext *pc, PetscInt i, PetscInt j, Pet
 
   for (PetscInt s = -1; s <= 1; s += 2) {
     const PetscInt other = at + s;
-    if (other < 0 || other >= n) continue;
+    if (other < 0 || other >= n || !PieceEdgeKept(pc, i, j, warp ? 0 : s, warp ? s : 0)) continue;
     sum += FlatDistance(pc, PieceNode(pc, i, j), warp ? PieceNode(pc, i, other) : PieceNode(pc, other, j));
     count++;
   }
@@ -53,7 +59,7 @@ static PetscReal ThreadOwnWidth(const PieceContext *pc, PetscInt i, PetscInt j, 
 
   for (PetscInt s = -1; s <= 1; s += 2) {
     const PetscInt other = at + s;
-    if (other < 0 || other >= n) continue;
+    if (other < 0 || other >= n || !PieceEdgeKept(pc, i, j, warp ? 0 : s, warp ? s : 0)) continue;
     width += 0.5 * FlatDistance(pc, PieceNode(pc, i, j), warp ? PieceNode(pc, i, other) : PieceNode(pc, other, j));
   }
   return width;
@@ -121,7 +127,7 @@ static void AddThreadInteractions(ClothModel model, const PieceContext *pc, Pets
   for (PetscInt j = 0; j < piece->nv; j++)
     for (PetscInt i = 0; i < piece->nu; i++) {
       const PetscInt a = PieceNode(pc, i, j);
-      if (i + di < piece->nu && j + dj < piece->nv) {
+      if (i + di < piece->nu && j + dj < piece->nv && PieceEdgeKept(pc, i, j, di, dj)) {
         const PetscInt  b     = PieceNode(pc, i + di, j + dj);
         const PetscReal rest  = FlatDistance(pc, a, b);
         const PetscReal width = 0.5 * (ThreadWidth(pc, i, j, warp) + ThreadWidth(pc, i + di, j + dj, warp));
@@ -135,7 +141,7 @@ static void AddThreadInteractions(ClothModel model, const PieceContext *pc, Pets
           link->k_stiff     = FabricStretchLinkStiffStiffness(fab, warp, rest, width);
         }
       }
-      if (i + 2 * di < piece->nu && j + 2 * dj < piece->nv) {
+      if (i + 2 * di < piece->nu && j + 2 * dj < piece->nv && PieceEdgeKept(pc, i, j, di, dj) && PieceEdgeKept(pc, i + di, j + dj, di, dj)) {
         const PetscInt  m = PieceNode(pc, i + di, j + dj), b = PieceNode(pc, i + 2 * di, j + 2 * dj);
         const PetscReal width = ThreadWidth(pc, i + di, j + dj, warp);
         if (fab->bend_model == CLOTH_BEND_LINK) {
@@ -169,6 +175,7 @@ static PetscErrorCode AddCellInteractions(ClothModel model, const PieceContext *
       const PetscInt  c[4] = {PieceNode(pc, i, j), PieceNode(pc, i + 1, j), PieceNode(pc, i + 1, j + 1), PieceNode(pc, i, j + 1)};
       const PetscReal area = PatternCellArea(piece->nu, pc->uv, i, j);
 
+      if (!PatternCellKept(piece, pc->uv, i, j)) continue;
       for (PetscInt k = 0; k < 4; k++) model->quads[4 * model->nquads + k] = pc->offset + c[k];
       model->nquads++;
       if (FabricTwistRigidity(pc->fabric) > 0) {
@@ -250,12 +257,14 @@ static void WrapOntoCone(const ScenePiece *piece, PetscReal x[3])
   for (PetscInt k = 0; k < 3; k++) x[k] = c[k] + rho * (ca * a[k] + sa * (PetscCosReal(theta) * e1[k] + PetscSinReal(theta) * e2[k]));
 }
 
-/* Particle positions (flat pattern placed in 3D), masses and pins of one piece. */
+/* Particle positions (flat pattern placed in 3D), masses and pins of one piece. The nodes a cut (cut_disc) leaves
+   outside every cell get no mass and no interaction and are held still: the particle numbering stays the grid's. */
 static PetscErrorCode AddPieceParticles(ClothModel model, const PieceContext *pc)
 {
   const ScenePiece *piece      = pc->piece;
   const PetscInt    n          = piece->nu * piece->nv;
   PetscReal         total_area = 0;
+  PetscInt          nkept      = 0;
 
   PetscFunctionBeginUser;
   for (PetscInt p = 0; p < n; p++) {
@@ -271,12 +280,18 @@ static PetscErrorCode AddPieceParticles(ClothModel model, const PieceContext *pc
     for (PetscInt i = 0; i + 1 < piece->nu; i++) {
       const PetscReal area = PatternCellArea(piece->nu, pc->uv, i, j);
       const PetscInt  c[4] = {PieceNode(pc, i, j), PieceNode(pc, i + 1, j), PieceNode(pc, i + 1, j + 1), PieceNode(pc, i, j + 1)};
+
+      if (!PatternCellKept(piece, pc->uv, i, j)) continue;
       for (PetscInt k = 0; k < 4; k++) model->mass[pc->offset + c[k]] += 0.25 * area * pc->fabric->density;
       total_area += area;
     }
+  for (PetscInt p = 0; p < n; p++) nkept += PatternNodeKept(piece, pc->uv, p % piece->nu, p / piece->nu) ? 1 : 0;
   for (PetscInt p = 0; p < n; p++) {
-    if (piece->mass_distribution == CLOTH_MASS_UNIFORM) model->mass[pc->offset + p] = pc->fabric->density * total_area / n;
+    const PetscBool kept = PatternNodeKept(piece, pc->uv, p % piece->nu, p / piece->nu);
+
+    if (piece->mass_distribution == CLOTH_MASS_UNIFORM) model->mass[pc->offset + p] = kept ? pc->fabric->density * total_area / nkept : 0;
     model->damping[pc->offset + p] = pc->fabric->damping * model->mass[pc->offset + p];
+    if (!kept) model->pinned[pc->offset + p] = PETSC_TRUE;
   }
   for (PetscInt k = 0; k < piece->npins; k++) model->pinned[pc->offset + PieceNode(pc, piece->pins[2 * k], piece->pins[2 * k + 1])] = PETSC_TRUE;
   for (PetscInt p = 0; p < n; p++) { /* pin regions in pattern coordinates: a support disc, a clamped table part */

@@ -164,3 +164,26 @@ PetscReal PatternCellArea(PetscInt nu, const PetscReal uv[], PetscInt i, PetscIn
 {
   return CellArea(nu, uv, i, j);
 }
+
+PetscBool PatternCellKept(const ScenePiece *piece, const PetscReal uv[], PetscInt i, PetscInt j)
+{
+  const PetscInt c[4]      = {j * piece->nu + i, j * piece->nu + i + 1, (j + 1) * piece->nu + i + 1, (j + 1) * piece->nu + i};
+  PetscReal      centre[2] = {0, 0};
+
+  if (i < 0 || j < 0 || i + 1 >= piece->nu || j + 1 >= piece->nv) return PETSC_FALSE;
+  if (!(piece->cut_disc[2] > 0)) return PETSC_TRUE;
+  for (PetscInt k = 0; k < 4; k++)
+    for (PetscInt d = 0; d < 2; d++) centre[d] += 0.25 * uv[2 * c[k] + d];
+  return (PetscBool)(PetscSqr(centre[0] - piece->cut_disc[0]) + PetscSqr(centre[1] - piece->cut_disc[1]) <= PetscSqr(piece->cut_disc[2]));
+}
+
+PetscBool PatternEdgeKept(const ScenePiece *piece, const PetscReal uv[], PetscInt i, PetscInt j, PetscInt di, PetscInt dj)
+{
+  /* the cells on either side: below and above an edge along u, left and right of one along v */
+  return (PetscBool)(PatternCellKept(piece, uv, i - dj, j - di) || PatternCellKept(piece, uv, i, j));
+}
+
+PetscBool PatternNodeKept(const ScenePiece *piece, const PetscReal uv[], PetscInt i, PetscInt j)
+{
+  return (PetscBool)(PatternCellKept(piece, uv, i - 1, j - 1) || PatternCellKept(piece, uv, i, j - 1) || PatternCellKept(piece, uv, i - 1, j) || PatternCellKept(piece, uv, i, j));
+}

@@ -23,3 +23,10 @@ PetscErrorCode PatternResampleByArcLength(PetscInt npoints, const PetscReal poin
 PetscErrorCode PatternOutlineArea(const ScenePiece *piece, PetscReal *area);
 /* Signed area of grid cell (i, j) of a piece with nu columns, from its flat coordinates. */
 PetscReal PatternCellArea(PetscInt nu, const PetscReal uv[], PetscInt i, PetscInt j);
+/* Whether grid cell (i, j) is fabric: every cell, or with cut_disc only those whose centre (the mean of their corners)
+   lies in the disc. A cut piece keeps its whole grid; nodes outside every kept cell carry no fabric. */
+PetscBool PatternCellKept(const ScenePiece *piece, const PetscReal uv[], PetscInt i, PetscInt j);
+/* Whether the grid edge from node (i, j) to its neighbour (i + di, j + dj) (di + dj = 1) borders a kept cell. */
+PetscBool PatternEdgeKept(const ScenePiece *piece, const PetscReal uv[], PetscInt i, PetscInt j, PetscInt di, PetscInt dj);
+/* Whether node (i, j) is a corner of a kept cell. */
+PetscBool PatternNodeKept(const ScenePiece *piece, const PetscReal uv[], PetscInt i, PetscInt j);

@@ -37,7 +37,8 @@
          mass: uniform                # area | uniform (default area)
          pins: [[0, 0], [-1, 0]]      # optional list of [i, j]; negative counts from the end (-1 = last)
          # instead of size: boundaries: {bottom, right, top, left: polyline [[u, v], ...] or arc {center, radius,
-         # from, to, segments}, nodes: [b, r, t, l]} (pattern.h); pin_disc: {center, radius}, pin_box: {min, max}
+         # from, to, segments}, nodes: [b, r, t, l]} (pattern.h); pin_disc: {center, radius}, pin_box: {min, max};
+         # cut_disc: {center, radius}: only the cells whose centre lies in the disc are fabric (a grid cut by a circle)
      run:                             # optional defaults for run-level options (command-line options override)
        integrator: implicit           # explicit | symplectic | implicit
        dt: 0.004166666666666667       # s, > 0
@@ -111,7 +112,7 @@ static const char *const SceneFabricKeys[]        = {"density",
                                                      "stretch_stiff_warp",
                                                      "stretch_stiff_weft",
                                                      NULL};
-static const char *const ScenePieceKeys[]         = {"name", "fabric", "grid", "size", "boundaries", "origin", "u_axis", "v_axis", "mass", "pins", "pin_disc", "pin_box", "wrap", NULL};
+static const char *const ScenePieceKeys[]         = {"name", "fabric", "grid", "size", "boundaries", "origin", "u_axis", "v_axis", "mass", "pins", "pin_disc", "pin_box", "cut_disc", "wrap", NULL};
 static const char *const SceneWrapKeys[]          = {"axis_point", "apex", "axis", NULL};
 static const char *const SceneBoundaryKeys[]      = {"bottom", "right", "top", "left", "nodes", NULL}; /* bottom, right, top, left: the order of ScenePiece.boundary_* */
 static const char *const SceneKESKeys[]           = {"W", "B_warp", "B_weft", "G", "EMT_warp", "EMT_weft", "LT_warp", "LT_weft", "2HB_warp", "2HB_weft", "2HG", NULL};
@@ -369,8 +370,8 @@ static PetscErrorCode ReadShearHysteresis(SceneReader *r, yaml_node_t *map, Pets
 }
 
 /* bend_bias: the measured bending rigidity along the bias, or bend_bias_ratio: it as a multiple of the mean of
-   bend_warp and bend_weft (not both). The thread-angle springs already give (bend_warp + bend_weft) / 4 there and
-   the twist elements can only add to it. */
+   bend_warp and bend_weft (not both); without either, a preset's measured one. The thread-angle springs already give
+   (bend_warp + bend_weft) / 4 there and the twist elements can only add to it. */
 static PetscErrorCode ReadBendBias(SceneReader *r, yaml_node_t *map, PetscInt bend_model, SceneFabric *fabric)
 {
   const PetscReal threads  = 0.25 * (fabric->bend_warp + fabric->bend_weft);
@@ -392,6 +393,22 @@ static PetscErrorCode ReadBendBias(SceneReader *r, yaml_node_t *map, PetscInt be
   } else
     PetscCall(SceneKeyReal(r, map, key, PETSC_FALSE, SCENE_REAL_NONNEGATIVE, "bending rigidity along the bias, N m", &fabric->bend_bias));
   if (fabric->bend_bias <= 0) PetscFunctionReturn(PETSC_SUCCESS);
+  if (!has_bias && !has_ratio) { /* the preset's: it belongs to the preset's angle model and rigidities */
+    if (bend_model != CLOTH_BEND_ANGLE)
+      fabric->bend_bias = 0;
+    else if (fabric->bend_bias < threads * (1 - 1e-12)) { /* the scene's own bend, bend_warp or bend_weft raised the threads' share */
+      const char *bend_keys[] = {"bend", "bend_warp", "bend_weft"};
+
+      value = NULL;
+      for (PetscInt k = 0; k < 3 && !value; k++) {
+        key = bend_keys[k];
+        PetscCall(SceneGetValue(r, map, key, &value));
+      }
+      PetscCall(SceneFailValue(r, value ? value : map, key, "bending rigidities whose thread springs give at most the preset's bias rigidity, %g N m, along the bias ((bend_warp + bend_weft) / 4 = %g N m here), or bend_bias beside them (0: none)",
+                               (double)fabric->bend_bias, (double)threads));
+    }
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
   PetscCall(SceneGetValue(r, map, key, &value));
   if (bend_model != CLOTH_BEND_ANGLE) PetscCall(SceneFailValue(r, value, key, "no %s with bend_model: link (the twist elements complete the angle model)", key));
   if (fabric->bend_bias < threads * (1 - 1e-12)) {
@@ -630,12 +647,19 @@ static PetscErrorCode ReadBoundaries(SceneReader *r, yaml_node_t *map, ScenePiec
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* pin_disc: {center: [u, v], radius: r} and pin_box: {min: [u, v], max: [u, v]}, in pattern coordinates (m). */
+/* pin_disc: {center: [u, v], radius: r} and pin_box: {min: [u, v], max: [u, v]}, in pattern coordinates (m); and
+   cut_disc: {center, radius}, the disc the grid is cut to. */
 static PetscErrorCode ReadPinRegions(SceneReader *r, yaml_node_t *map, ScenePiece *piece)
 {
   yaml_node_t *node;
 
   PetscFunctionBeginUser;
+  PetscCall(SceneGetValue(r, map, "cut_disc", &node));
+  if (node) {
+    PetscCall(SceneExpectMap(r, node, "cut_disc", ScenePinDiscKeys, NULL));
+    PetscCall(SceneKeyRealList(r, node, "center", PETSC_TRUE, 2, SCENE_REAL_ANY, "m", piece->cut_disc));
+    PetscCall(SceneKeyReal(r, node, "radius", PETSC_TRUE, SCENE_REAL_POSITIVE, "m", &piece->cut_disc[2]));
+  }
   PetscCall(SceneGetValue(r, map, "pin_disc", &node));
   if (node) {
     PetscCall(SceneExpectMap(r, node, "pin_disc", ScenePinDiscKeys, NULL));
@@ -1036,6 +1060,21 @@ static PetscErrorCode SceneReadSewing(SceneReader *r, yaml_node_t *root, SceneSe
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* A piece cut to a disc (cut_disc) keeps its whole grid of particles, those outside held still without mass; seams
+   (sides of the grid) and cloth-cloth contact (the grid's triangles) do not know the cut, so they are refused. */
+static PetscErrorCode SceneCheckCutPieces(SceneReader *r, Scene scene)
+{
+  PetscFunctionBeginUser;
+  for (PetscInt p = 0; p < scene->npieces; p++) {
+    if (!(scene->pieces[p].cut_disc[2] > 0)) continue;
+    PetscCheck(!scene->self_collision.enabled, r->comm, PETSC_ERR_USER_INPUT, "scene %s: piece '%s': expected no cut_disc with self_collision enabled (the contact search does not know the cut), got both", r->path, scene->pieces[p].name);
+    for (PetscInt s = 0; s < scene->nseams; s++)
+      PetscCheck(scene->seams[s].a.piece != p && scene->seams[s].b.piece != p, r->comm, PETSC_ERR_USER_INPUT, "scene %s: seam '%s': expected no seam on piece '%s', which is cut to a disc (cut_disc), got one", r->path, scene->seams[s].name,
+                 scene->pieces[p].name);
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 static PetscErrorCode SceneReadDocument(SceneReader *r, Scene scene)
 {
   yaml_node_t *root = yaml_document_get_root_node(r->doc), *name;
@@ -1056,6 +1095,7 @@ static PetscErrorCode SceneReadDocument(SceneReader *r, Scene scene)
   PetscCall(SceneReadSelfCollision(r, root, scene));
   PetscCall(SceneReadSeams(r, root, scene));
   PetscCall(SceneReadSewing(r, root, &scene->sewing));
+  PetscCall(SceneCheckCutPieces(r, scene));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -1289,6 +1329,7 @@ static PetscErrorCode ScenePieceView(Scene scene, const ScenePiece *p, PetscView
   PetscCall(SceneAppendItem(list, sizeof(list), "%" PetscInt_FMT " pin%s", p->npins, p->npins == 1 ? "" : "s"));
   if (p->pin_disc[2] > 0) PetscCall(SceneAppendItem(list, sizeof(list), "pinned within %g m of (%g, %g)", (double)p->pin_disc[2], (double)p->pin_disc[0], (double)p->pin_disc[1]));
   if (p->pin_box[2] > p->pin_box[0]) PetscCall(SceneAppendItem(list, sizeof(list), "pinned in [%g, %g] x [%g, %g]", (double)p->pin_box[0], (double)p->pin_box[2], (double)p->pin_box[1], (double)p->pin_box[3]));
+  if (p->cut_disc[2] > 0) PetscCall(SceneAppendItem(list, sizeof(list), "cut to the cells within %g m of (%g, %g)", (double)p->cut_disc[2], (double)p->cut_disc[0], (double)p->cut_disc[1]));
   PetscCall(SceneAppendItem(frame, sizeof(frame), "origin (%g, %g, %g) m", (double)p->origin[0], (double)p->origin[1], (double)p->origin[2]));
   PetscCall(SceneAppendItem(frame, sizeof(frame), "u_axis (%g, %g, %g)", (double)p->u_axis[0], (double)p->u_axis[1], (double)p->u_axis[2]));
   PetscCall(SceneAppendItem(frame, sizeof(frame), "v_axis (%g, %g, %g)", (double)p->v_axis[0], (double)p->v_axis[1], (double)p->v_axis[2]));

@@ -73,6 +73,7 @@ typedef struct {
   PetscReal            *boundary_points[4];  /* 2 * npoints pattern-plane coordinates (u, v), m, each */
   PetscReal             pin_disc[3];         /* pin particles with |uv - (pin_disc[0], pin_disc[1])| < pin_disc[2] (radius 0 = none) */
   PetscReal             pin_box[4];          /* pin particles with u0 <= u <= u1, v0 <= v <= v1 (u0, v0, u1, v1; empty when u1 < u0) */
+  PetscReal             cut_disc[3];         /* keep only the grid cells whose centre lies within cut_disc[2] of (cut_disc[0], cut_disc[1]) (radius 0 = all; pattern.h) */
   PetscBool             wrapped;             /* wrap: the flat placement is rolled onto a cylinder (arrangement around a body) */
   PetscReal             wrap_point[3];       /* a point on the cylinder's axis, m */
   PetscReal             wrap_axis[3];        /* the axis direction (unit) */
