@@ -73,7 +73,8 @@ def parse_log(path):
                 run["events"][(current, m.group(1).strip())] = {
                     "count": int(m.group(2)), "time": float(m.group(4)), "flop": float(m.group(6)),
                     "messages": float(m.group(8)), "avglen": float(m.group(9)), "reductions": float(m.group(10)),
-                    "malloc_mb": float(mem[0]), "mmalloc_mb": float(mem[2]), "rmi_mb": float(mem[3])}
+                    "malloc_mb": float(mem[0]), "emalloc_mb": float(mem[1]), "mmalloc_mb": float(mem[2]),
+                    "rmi_mb": float(mem[3])}
         m = re.match(r"^-\S+\s+\d+\s+\S+\s+\S+\s+(\d+) .* (\S+)$", line)
         if m:
             run["files"][m.group(2)] = int(m.group(1))
@@ -115,6 +116,13 @@ def memory_row(run):
     steps = "Time steps"
     row["aij_copy_B_per_particle"] = 1e6 * event(run, steps, "MatConvert", "malloc_mb") / n
     row["gamg_hierarchy_B_per_particle"] = 1e6 * event(run, steps, "PCSetUp", "malloc_mb") / n
+    # GAMG's own events, per level: "PCGAMG Gal lNN" the Galerkin product, "PCGAMG Opt lNN" the smoothed prolongator
+    levels = sorted({name[-3:] for (stage, name) in run["events"] if stage == steps and name.startswith("PCGAMG Gal l")})
+    row["gamg_finest_galerkin_B_per_particle"] = 1e6 * event(run, steps, "PCGAMG Gal l00", "malloc_mb") / n
+    row["gamg_finest_galerkin_transient_B_per_particle"] = 1e6 * event(run, steps, "PCGAMG Gal l00", "emalloc_mb") / n
+    row["gamg_finest_prolongator_B_per_particle"] = 1e6 * event(run, steps, "PCGAMG Opt l00", "malloc_mb") / n
+    row["gamg_coarser_levels_B_per_particle"] = 1e6 * sum(event(run, steps, "PCGAMG " + kind + " " + level, "malloc_mb") for level in levels[1:] for kind in ("Gal", "Opt")) / n
+    row["gamg_smoothers_B_per_particle"] = 1e6 * event(run, steps, "KSPSetUp", "malloc_mb") / n
     row["solve_total_B_per_particle"] = 1e6 * event(run, steps, "ClothSolve", "malloc_mb") / n
     row["solve_peak_B_per_particle"] = 1e6 * event(run, steps, "ClothSolve", "mmalloc_mb") / n
     row["solve_resident_B_per_particle"] = 1e6 * event(run, steps, "ClothSolve", "rmi_mb") / n
