@@ -5,7 +5,7 @@
 #   bash scripts/run_main.sh         (BUILD_DIR=... builds and runs from another build directory)
 set -euo pipefail
 
-# The main job: the dress assembled on the mannequin (input/dress.yaml) on 2 ranks, about 38 s on two
+# The main job: the dress assembled on the mannequin (input/dress.yaml) on 2 ranks, about 34 s on two
 # idle cores. Switch the scene (and options) here; results go to output/NAME (NAME from the scene's
 # "name:") or -output_dir. For a garment (a scene with seams) the run writes quality.json, and this
 # script completes it, renders front, side and back views shaded as cloth, front and back views of the fit
