@@ -21,38 +21,15 @@ typedef struct {
   PetscInt  *lines;       /* per piece nu then nv entries: where each grid line lies in the cloth's own grid (its index) */
   PetscInt  *line_offset; /* npieces + 1: the first entry of each piece in lines */
   PetscBool *pinned;      /* natural: held fixed (on a coarse level: sits on a pinned particle) */
-  PetscInt  *cloth_node;  /* natural: the cloth particle (natural index) a particle of the level sits on */
-  PetscInt  *glue_offset; /* natural + 1: a glued particle's expansion in the level's free particles (empty: not glued) */
-  PetscInt  *glue_index;  /* natural indices of the level */
-  PetscReal *glue_weight;
 } GridLevel;
-
-/* The seams as the hierarchy sees them: for every cloth particle (natural), the seam link that sews it (as the link's
-   node p[0]) to a point of another side, or -1. */
-typedef struct {
-  const ClothSeamLink *links;
-  PetscInt            *link_of;
-  PetscInt             nparticles;
-  const PetscInt      *piece_offset; /* the cloth's grids: first particle and nu of each piece */
-  PetscInt            *nu;
-} SeamGlue;
-
-/* Gluing follows chains of seams (a corner sewn to a node that is itself sewn) this deep, and gives up on a particle
-   whose expansion would exceed CLOTH_GRID_GLUE_MAX_TERMS terms (it then stays a coarse particle of its own). */
-#define CLOTH_GRID_GLUE_MAX_DEPTH 6
-#define CLOTH_GRID_GLUE_MAX_TERMS 64
 
 static PetscErrorCode GridLevelAllocate(PetscInt npieces, PetscMPIInt size, GridLevel *level)
 {
   PetscFunctionBeginUser;
-  level->npieces     = npieces;
-  level->global      = NULL;
-  level->lines       = NULL;
-  level->pinned      = NULL;
-  level->cloth_node  = NULL;
-  level->glue_offset = NULL;
-  level->glue_index  = NULL;
-  level->glue_weight = NULL;
+  level->npieces = npieces;
+  level->global  = NULL;
+  level->lines   = NULL;
+  level->pinned  = NULL;
   PetscCall(PetscMalloc5(npieces, &level->nu, npieces, &level->nv, npieces + 1, &level->offset, size + 1, &level->ranges, npieces + 1, &level->line_offset));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -74,8 +51,6 @@ static PetscErrorCode GridLevelFree(GridLevel *level)
   PetscCall(PetscFree(level->global));
   PetscCall(PetscFree(level->lines));
   PetscCall(PetscFree(level->pinned));
-  PetscCall(PetscFree(level->cloth_node));
-  PetscCall(PetscFree3(level->glue_offset, level->glue_index, level->glue_weight));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -105,9 +80,6 @@ static PetscErrorCode GridLevelFromCloth(Cloth cloth, GridLevel *level)
   PetscCall(PetscArraycpy(level->global, layout.solver_of_natural, layout.nglobal));
   PetscCall(PetscMalloc1(layout.nglobal, &level->pinned));
   PetscCall(PetscArraycpy(level->pinned, layout.model->pinned, layout.nglobal));
-  PetscCall(PetscMalloc1(layout.nglobal, &level->cloth_node));
-  for (PetscInt n = 0; n < layout.nglobal; n++) level->cloth_node[n] = n;
-  PetscCall(PetscCalloc3(layout.nglobal + 1, &level->glue_offset, 0, &level->glue_index, 0, &level->glue_weight)); /* the cloth itself: nothing glued */
   level->ranges[0] = 0;
   PetscCallMPI(MPI_Allgather(&layout.nlocal, 1, MPIU_INT, level->ranges + 1, 1, MPIU_INT, layout.comm));
   for (PetscMPIInt r = 0; r < size; r++) level->ranges[r + 1] += level->ranges[r];
@@ -153,146 +125,9 @@ static PetscInt RatioFor(PetscInt n, PetscInt r)
   return n >= 3 ? r : 1;
 }
 
-/* Where cloth grid index i lies among a level's n grid lines line[] (cloth indices, increasing): at most two lines and
-   weights linear in the cloth index. */
-static PetscInt Bracket1D(PetscInt i, const PetscInt line[], PetscInt n, PetscInt index[2], PetscReal weight[2])
-{
-  PetscInt a = 0;
-
-  while (a + 2 < n && line[a + 1] <= i) a++;
-  if (n == 1 || line[a] == i) {
-    index[0]  = a;
-    weight[0] = 1;
-    return 1;
-  }
-  if (line[a + 1] == i) {
-    index[0]  = a + 1;
-    weight[0] = 1;
-    return 1;
-  }
-  index[0]  = a;
-  index[1]  = a + 1;
-  weight[1] = (PetscReal)(i - line[a]) / (PetscReal)(line[a + 1] - line[a]);
-  weight[0] = 1 - weight[1];
-  return 2;
-}
-
-/* Cloth particle m (natural) interpolated from a level's particles: bilinear in the cloth's grid indices, which is
-   what the composite interpolation of all the levels in between gives (each is linear in them). Pinned particles of
-   the level are left out, as in CellWeights. */
-static PetscInt ClothParticleWeights(const GridLevel *level, const SeamGlue *glue, PetscInt m, PetscInt index[4], PetscReal weight[4])
-{
-  PetscInt        p = 0, iu[2], iv[2], nu, nv, k = 0;
-  PetscReal       wu[2], wv[2];
-  const PetscInt *u, *v;
-
-  while (glue->piece_offset[p + 1] <= m) p++;
-  u  = level->lines + level->line_offset[p];
-  v  = u + level->nu[p];
-  nu = Bracket1D((m - glue->piece_offset[p]) % glue->nu[p], u, level->nu[p], iu, wu);
-  nv = Bracket1D((m - glue->piece_offset[p]) / glue->nu[p], v, level->nv[p], iv, wv);
-  for (PetscInt b = 0; b < nv; b++)
-    for (PetscInt a = 0; a < nu; a++) {
-      index[k]  = level->offset[p] + iv[b] * level->nu[p] + iu[a];
-      weight[k] = wu[a] * wv[b];
-      if (!level->pinned[index[k]]) k++;
-    }
-  return k;
-}
-
-/* Appends the expansion of glued particle c (times factor) in particles that are not glued; false when the chain of
-   seams is deeper than CLOTH_GRID_GLUE_MAX_DEPTH (a cycle) or the expansion too long. */
-static PetscBool GlueExpand(const PetscInt raw_offset[], const PetscInt raw_index[], const PetscReal raw_weight[], const PetscBool glued[], PetscInt c, PetscReal factor, PetscInt depth, PetscInt *n, PetscInt index[], PetscReal weight[])
-{
-  for (PetscInt t = raw_offset[c]; t < raw_offset[c + 1]; t++) {
-    const PetscInt  d = raw_index[t];
-    const PetscReal w = factor * raw_weight[t];
-    if (glued[d]) {
-      if (depth >= CLOTH_GRID_GLUE_MAX_DEPTH || !GlueExpand(raw_offset, raw_index, raw_weight, glued, d, w, depth + 1, n, index, weight)) return PETSC_FALSE;
-    } else {
-      if (*n >= CLOTH_GRID_GLUE_MAX_TERMS) return PETSC_FALSE;
-      index[*n]  = d;
-      weight[*n] = w;
-      (*n)++;
-    }
-  }
-  return PETSC_TRUE;
-}
-
-/* Seam-aware coarse space: a coarse particle that sits on a sewn node (the node p[0] of a seam link) is no unknown of
-   its own but the point it is sewn to, interpolated from the other piece's coarse particles. The coarse functions are
-   then continuous across the seams, which the stiff sewn springs demand of any smooth error; coarsened independently,
-   the pieces' coarse spaces could only represent a seam's smooth motion through the springs' Galerkin coupling
-   (measured on the dress: 73 iterations a step, against 40 with the seams a hundred times softer). Fills the level's
-   glue arrays; pinned particles are never glued. */
-static PetscErrorCode GridLevelGlue(GridLevel *level, const SeamGlue *glue)
-{
-  const PetscInt n = level->offset[level->npieces];
-  PetscInt      *raw_offset, *raw_index, total = 0, index[CLOTH_GRID_GLUE_MAX_TERMS];
-  PetscReal     *raw_weight, weight[CLOTH_GRID_GLUE_MAX_TERMS];
-  PetscBool     *glued, changed = PETSC_TRUE;
-
-  PetscFunctionBeginUser;
-  PetscCall(PetscCalloc1(n + 1, &raw_offset));
-  PetscCall(PetscCalloc1(n, &glued));
-  /* the raw expansions: the sewn point's particles' bilinear weights, in level particles that may be glued themselves */
-  for (PetscInt pass = 0; pass < 2; pass++) {
-    if (pass == 1) PetscCall(PetscMalloc2(total, &raw_index, total, &raw_weight));
-    total = 0;
-    for (PetscInt c = 0; c < n; c++) {
-      const PetscInt l = glue ? glue->link_of[level->cloth_node[c]] : -1;
-      raw_offset[c]    = total;
-      if (l < 0 || level->pinned[c]) continue;
-      for (PetscInt k = 1; k < glue->links[l].np; k++) {
-        PetscInt  ik[4];
-        PetscReal wk[4];
-        PetscInt  nk = ClothParticleWeights(level, glue, glue->links[l].p[k], ik, wk);
-        for (PetscInt t = 0; t < nk; t++, total++)
-          if (pass == 1) raw_index[total] = ik[t], raw_weight[total] = -glue->links[l].c[k] * wk[t];
-      }
-      glued[c] = total > raw_offset[c] ? PETSC_TRUE : PETSC_FALSE;
-    }
-    raw_offset[n] = total;
-  }
-  /* particles whose chain of seams does not end (a cycle) stay unknowns; repeat until every expansion resolves */
-  while (changed) {
-    changed = PETSC_FALSE;
-    for (PetscInt c = 0; c < n; c++) {
-      PetscInt count = 0;
-      if (glued[c] && !GlueExpand(raw_offset, raw_index, raw_weight, glued, c, 1.0, 0, &count, index, weight)) glued[c] = PETSC_FALSE, changed = PETSC_TRUE;
-    }
-  }
-  for (PetscInt pass = 0; pass < 2; pass++) {
-    if (pass == 1) PetscCall(PetscMalloc3(n + 1, &level->glue_offset, total, &level->glue_index, total, &level->glue_weight));
-    total = 0;
-    for (PetscInt c = 0; c < n; c++) {
-      PetscInt count = 0;
-      if (pass == 1) level->glue_offset[c] = total;
-      if (!glued[c]) continue;
-      PetscCheck(GlueExpand(raw_offset, raw_index, raw_weight, glued, c, 1.0, 0, &count, index, weight), PETSC_COMM_SELF, PETSC_ERR_PLIB, "Seam gluing of coarse particle %" PetscInt_FMT " does not resolve", c);
-      if (pass == 1) {
-        PetscCall(PetscArraycpy(level->glue_index + total, index, count));
-        PetscCall(PetscArraycpy(level->glue_weight + total, weight, count));
-      }
-      total += count;
-    }
-    if (pass == 1) level->glue_offset[n] = total;
-  }
-  PetscCall(PetscFree2(raw_index, raw_weight));
-  PetscCall(PetscFree(raw_offset));
-  PetscCall(PetscFree(glued));
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-static PetscBool IsGlued(const GridLevel *level, PetscInt c)
-{
-  return level->glue_offset[c + 1] > level->glue_offset[c] ? PETSC_TRUE : PETSC_FALSE;
-}
-
-/* The next coarser level of fine: grids, seam gluing (glue may be NULL: none), natural -> global numbering (a coarse
-   particle is owned by the owner of the fine particle it sits on, numbered in the order of those fine particles' global
-   indices; a glued one is no unknown and gets -1) and ranges. */
-static PetscErrorCode GridLevelCoarsen(const GridLevel *fine, PetscInt ratio, const SeamGlue *glue, PetscMPIInt size, GridLevel *coarse)
+/* The next coarser level of fine: grids, natural -> global numbering (a coarse particle is owned by the owner of the
+   fine particle it sits on, numbered in the order of those fine particles' global indices) and ranges. */
+static PetscErrorCode GridLevelCoarsen(const GridLevel *fine, PetscInt ratio, PetscMPIInt size, GridLevel *coarse)
 {
   PetscInt    nfine = fine->offset[fine->npieces], ncoarse, *coarse_at, count = 0;
   PetscMPIInt r = 0;
@@ -315,23 +150,20 @@ static PetscErrorCode GridLevelCoarsen(const GridLevel *fine, PetscInt ratio, co
   }
   PetscCall(PetscMalloc1(ncoarse, &coarse->global));
   PetscCall(PetscMalloc1(ncoarse, &coarse->pinned));
-  PetscCall(PetscMalloc1(ncoarse, &coarse->cloth_node));
   PetscCall(PetscMalloc1(nfine, &coarse_at)); /* fine global index -> coarse natural index, or -1 */
   for (PetscInt g = 0; g < nfine; g++) coarse_at[g] = -1;
   for (PetscInt p = 0; p < fine->npieces; p++) {
     const PetscInt ru = RatioFor(fine->nu[p], ratio), rv = RatioFor(fine->nv[p], ratio);
     for (PetscInt jc = 0; jc < coarse->nv[p]; jc++)
       for (PetscInt ic = 0; ic < coarse->nu[p]; ic++) {
-        const PetscInt n                                                = fine->offset[p] + FineIndexOf(jc, fine->nv[p], rv) * fine->nu[p] + FineIndexOf(ic, fine->nu[p], ru);
-        coarse_at[fine->global[n]]                                      = coarse->offset[p] + jc * coarse->nu[p] + ic;
-        coarse->pinned[coarse->offset[p] + jc * coarse->nu[p] + ic]     = fine->pinned[n];
-        coarse->cloth_node[coarse->offset[p] + jc * coarse->nu[p] + ic] = fine->cloth_node[n];
+        const PetscInt n                                            = fine->offset[p] + FineIndexOf(jc, fine->nv[p], rv) * fine->nu[p] + FineIndexOf(ic, fine->nu[p], ru);
+        coarse_at[fine->global[n]]                                  = coarse->offset[p] + jc * coarse->nu[p] + ic;
+        coarse->pinned[coarse->offset[p] + jc * coarse->nu[p] + ic] = fine->pinned[n];
       }
   }
-  PetscCall(GridLevelGlue(coarse, glue));
   for (PetscInt g = 0; g < nfine; g++) {
     while (r <= size && fine->ranges[r] == g) coarse->ranges[r++] = count;
-    if (coarse_at[g] >= 0) coarse->global[coarse_at[g]] = IsGlued(coarse, coarse_at[g]) ? -1 : count++;
+    if (coarse_at[g] >= 0) coarse->global[coarse_at[g]] = count++;
   }
   while (r <= size) coarse->ranges[r++] = count;
   PetscCall(PetscFree(coarse_at));
@@ -363,24 +195,20 @@ static PetscInt CellWeights(const GridLevel *fine, const GridLevel *coarse, Pets
   return k;
 }
 
-/* P (AIJ, block size 3): rows the fine level's owned particles, columns the coarse level's (glued ones excepted on
-   both sides). A preallocation count may repeat a column that a glued particle's expansion shares with the cell. */
+/* P (AIJ, block size 3): rows the fine level's owned particles, columns the coarse level's. */
 static PetscErrorCode BuildInterpolation(MPI_Comm comm, const GridLevel *fine, const GridLevel *coarse, PetscInt ratio, Mat *P)
 {
-  PetscMPIInt rank, size;
+  PetscMPIInt rank;
   PetscInt    rstart, rend, cstart, cend, *dnnz, *onnz, index[4], k;
   PetscReal   weight[4];
 
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  PetscCallMPI(MPI_Comm_size(comm, &size));
   rstart = fine->ranges[rank], rend = fine->ranges[rank + 1];
   cstart = coarse->ranges[rank], cend = coarse->ranges[rank + 1];
   PetscCall(PetscCalloc2(3 * (rend - rstart), &dnnz, 3 * (rend - rstart), &onnz));
   for (PetscInt pass = 0; pass < 2; pass++) { /* count, then set */
     if (pass == 1) {
-      const PetscInt nlocal_columns = 3 * (cend - cstart), nother_columns = 3 * (coarse->ranges[size] - (cend - cstart));
-      for (PetscInt r = 0; r < 3 * (rend - rstart); r++) dnnz[r] = PetscMin(dnnz[r], nlocal_columns), onnz[r] = PetscMin(onnz[r], nother_columns);
       PetscCall(MatCreateAIJ(comm, 3 * (rend - rstart), 3 * (cend - cstart), PETSC_DETERMINE, PETSC_DETERMINE, 0, dnnz, 0, onnz, P));
       PetscCall(MatSetBlockSizes(*P, 3, 3));
       PetscCall(MatSetOption(*P, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
@@ -389,24 +217,19 @@ static PetscErrorCode BuildInterpolation(MPI_Comm comm, const GridLevel *fine, c
       for (PetscInt j = 0; j < fine->nv[p]; j++)
         for (PetscInt i = 0; i < fine->nu[p]; i++) {
           const PetscInt g = fine->global[fine->offset[p] + j * fine->nu[p] + i];
-          if (g < rstart || g >= rend) continue; /* not owned, or glued (g = -1) */
+          if (g < rstart || g >= rend) continue;
           k = CellWeights(fine, coarse, ratio, p, i, j, index, weight);
           for (PetscInt a = 0; a < k; a++) {
-            const PetscBool glued = IsGlued(coarse, index[a]);
-            const PetscInt  first = glued ? coarse->glue_offset[index[a]] : 0, last = glued ? coarse->glue_offset[index[a] + 1] : 1;
-            for (PetscInt t = first; t < last; t++) { /* a glued coarse particle stands for the particles it is sewn to */
-              const PetscInt  gc = coarse->global[glued ? coarse->glue_index[t] : index[a]];
-              const PetscReal w  = glued ? weight[a] * coarse->glue_weight[t] : weight[a];
-              for (PetscInt c = 0; c < 3; c++) {
-                const PetscInt row = 3 * g + c, col = 3 * gc + c;
-                if (pass == 0) {
-                  if (gc >= cstart && gc < cend)
-                    dnnz[row - 3 * rstart]++;
-                  else
-                    onnz[row - 3 * rstart]++;
-                } else
-                  PetscCall(MatSetValue(*P, row, col, w, ADD_VALUES));
-              }
+            const PetscInt gc = coarse->global[index[a]];
+            for (PetscInt c = 0; c < 3; c++) {
+              const PetscInt row = 3 * g + c, col = 3 * gc + c;
+              if (pass == 0) {
+                if (gc >= cstart && gc < cend)
+                  dnnz[row - 3 * rstart]++;
+                else
+                  onnz[row - 3 * rstart]++;
+              } else
+                PetscCall(MatSetValue(*P, row, col, weight[a], INSERT_VALUES));
             }
           }
         }
@@ -417,29 +240,10 @@ static PetscErrorCode BuildInterpolation(MPI_Comm comm, const GridLevel *fine, c
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* The seam links by the cloth particle they sew (their node p[0]; the first link of a particle sewn twice). */
-static PetscErrorCode SeamGlueCreate(Cloth cloth, SeamGlue *glue)
-{
-  ClothLayout layout;
-
-  PetscFunctionBeginUser;
-  PetscCall(ClothGetLayout(cloth, &layout));
-  glue->links        = layout.model->seamlinks;
-  glue->nparticles   = layout.nglobal;
-  glue->piece_offset = layout.model->piece_offset;
-  PetscCall(PetscMalloc2(layout.nglobal, &glue->link_of, layout.model->npieces, &glue->nu));
-  for (PetscInt p = 0; p < layout.model->npieces; p++) glue->nu[p] = layout.scene->pieces[p].nu;
-  for (PetscInt m = 0; m < layout.nglobal; m++) glue->link_of[m] = -1;
-  for (PetscInt l = layout.model->nseamlinks - 1; l >= 0; l--) glue->link_of[glue->links[l].p[0]] = l;
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-PetscErrorCode ClothGridHierarchyCreate(Cloth cloth, PetscInt ratio, PetscInt max_levels, PetscInt coarse_particles, PetscBool glue_seams, ClothGridHierarchy *gh)
+PetscErrorCode ClothGridHierarchyCreate(Cloth cloth, PetscInt ratio, PetscInt max_levels, PetscInt coarse_particles, ClothGridHierarchy *gh)
 {
   ClothGridHierarchy h;
   GridLevel          fine, coarse;
-  SeamGlue           glue;
-  ClothLayout        layout;
   PetscMPIInt        size;
   Mat                P[CLOTH_GRID_MAX_LEVELS];
   PetscInt           n[CLOTH_GRID_MAX_LEVELS], nfine_levels = 1;
@@ -453,22 +257,19 @@ PetscErrorCode ClothGridHierarchyCreate(Cloth cloth, PetscInt ratio, PetscInt ma
   PetscCall(PetscNew(&h));
   h->comm = comm;
   PetscCall(GridLevelFromCloth(cloth, &fine));
-  PetscCall(ClothGetLayout(cloth, &layout));
-  glue_seams = glue_seams && layout.model->nseamlinks > 0 ? PETSC_TRUE : PETSC_FALSE;
-  if (glue_seams) PetscCall(SeamGlueCreate(cloth, &glue));
   h->npieces = fine.npieces;
   /* from the finest down; stored finest first, reversed into PCMG's order below */
   n[0] = fine.offset[fine.npieces];
   PetscCall(PetscMalloc1(2 * fine.npieces * max_levels, &h->grids));
   for (PetscInt p = 0; p < fine.npieces; p++) h->grids[2 * p] = fine.nu[p], h->grids[2 * p + 1] = fine.nv[p];
   while (nfine_levels < max_levels && n[nfine_levels - 1] > coarse_particles) {
-    PetscCall(GridLevelCoarsen(&fine, ratio, glue_seams ? &glue : NULL, size, &coarse));
-    if (coarse.offset[coarse.npieces] == fine.offset[fine.npieces]) { /* no piece can be coarsened further */
+    PetscCall(GridLevelCoarsen(&fine, ratio, size, &coarse));
+    if (coarse.offset[coarse.npieces] == n[nfine_levels - 1]) { /* no piece can be coarsened further */
       PetscCall(GridLevelFree(&coarse));
       break;
     }
     PetscCall(BuildInterpolation(comm, &fine, &coarse, ratio, &P[nfine_levels]));
-    n[nfine_levels] = coarse.ranges[size];
+    n[nfine_levels] = coarse.offset[coarse.npieces];
     for (PetscInt p = 0; p < fine.npieces; p++) {
       h->grids[2 * (nfine_levels * fine.npieces + p)]     = coarse.nu[p];
       h->grids[2 * (nfine_levels * fine.npieces + p) + 1] = coarse.nv[p];
@@ -478,7 +279,6 @@ PetscErrorCode ClothGridHierarchyCreate(Cloth cloth, PetscInt ratio, PetscInt ma
     fine = coarse;
   }
   PetscCall(GridLevelFree(&fine));
-  if (glue_seams) PetscCall(PetscFree2(glue.link_of, glue.nu));
   h->nlevels = nfine_levels;
   PetscCall(PetscMalloc1(h->nlevels, &h->nparticles));
   PetscCall(PetscCalloc1(h->nlevels, &h->P));

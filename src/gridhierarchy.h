@@ -22,7 +22,7 @@ typedef struct _n_ClothGridHierarchy *ClothGridHierarchy;
 
 /* Coarsens the cloth's pattern grids by ratio (2: every other row and column) until a level has at most coarse_particles particles, no piece can be coarsened
    further, or there are max_levels levels (the cloth included). Collective; after ClothSetUp. */
-PetscErrorCode ClothGridHierarchyCreate(Cloth cloth, PetscInt ratio, PetscInt max_levels, PetscInt coarse_particles, PetscBool glue_seams, ClothGridHierarchy *gh);
+PetscErrorCode ClothGridHierarchyCreate(Cloth cloth, PetscInt ratio, PetscInt max_levels, PetscInt coarse_particles, ClothGridHierarchy *gh);
 PetscErrorCode ClothGridHierarchyGetLevels(ClothGridHierarchy gh, PetscInt *nlevels);
 /* The interpolation from level - 1 to level (1 <= level < nlevels), AIJ with block size 3 (borrowed). */
 PetscErrorCode ClothGridHierarchyGetInterpolation(ClothGridHierarchy gh, PetscInt level, Mat *P);

@@ -154,22 +154,19 @@ PetscErrorCode ClothPreconditionerCreate(KSP ksp, Cloth cloth, ClothPrecondition
 /* -pc_type mg: the levels of the pattern grids (gridhierarchy.h), coarse operators by Galerkin products. */
 static PetscErrorCode SetUpGridMultigrid(ClothPreconditioner pre, PC pc)
 {
-  PetscInt  max_levels = CLOTH_GRID_MAX_LEVELS, coarse_particles = CLOTH_PC_GRID_COARSE_PARTICLES, ratio = CLOTH_PC_GRID_DEFAULT_RATIO, nlevels;
-  PetscBool glue_seams = PETSC_TRUE;
-  KSP       smoother;
+  PetscInt max_levels = CLOTH_GRID_MAX_LEVELS, coarse_particles = CLOTH_PC_GRID_COARSE_PARTICLES, ratio = CLOTH_PC_GRID_DEFAULT_RATIO, nlevels;
+  KSP      smoother;
 
   PetscFunctionBeginUser;
   PetscOptionsBegin(PetscObjectComm((PetscObject)pc), NULL, "Implicit solve: pattern-grid multigrid (-pc_type mg)", "ClothPreconditioner");
   PetscCall(PetscOptionsInt("-implicit_pc_grid_ratio", "Pattern-grid multigrid: keep every ratio-th row and column of each piece on the next coarser level", "ClothGridHierarchyCreate", ratio, &ratio, NULL));
   PetscCall(PetscOptionsInt("-implicit_pc_grid_levels", "Pattern-grid multigrid: at most this many levels, the cloth included", "ClothGridHierarchyCreate", max_levels, &max_levels, NULL));
   PetscCall(PetscOptionsInt("-implicit_pc_grid_coarse_particles", "Pattern-grid multigrid: coarsen until a level has at most this many particles (solved directly)", "ClothGridHierarchyCreate", coarse_particles, &coarse_particles, NULL));
-  PetscCall(
-      PetscOptionsBool("-implicit_pc_grid_glue_seams", "Pattern-grid multigrid: a coarse particle on a sewn node follows the point it is sewn to (coarse spaces continuous across seams)", "ClothGridHierarchyCreate", glue_seams, &glue_seams, NULL));
   PetscOptionsEnd();
   PetscCheck(max_levels >= 1 && max_levels <= CLOTH_GRID_MAX_LEVELS, PetscObjectComm((PetscObject)pc), PETSC_ERR_USER_INPUT, "-implicit_pc_grid_levels %" PetscInt_FMT ": expected 1 to %d", max_levels, CLOTH_GRID_MAX_LEVELS);
   PetscCheck(coarse_particles >= 1, PetscObjectComm((PetscObject)pc), PETSC_ERR_USER_INPUT, "-implicit_pc_grid_coarse_particles %" PetscInt_FMT ": expected a positive count", coarse_particles);
   PetscCheck(ratio >= 2, PetscObjectComm((PetscObject)pc), PETSC_ERR_USER_INPUT, "-implicit_pc_grid_ratio %" PetscInt_FMT ": expected 2 or more", ratio);
-  PetscCall(ClothGridHierarchyCreate(pre->cloth, ratio, max_levels, coarse_particles, glue_seams, &pre->grid));
+  PetscCall(ClothGridHierarchyCreate(pre->cloth, ratio, max_levels, coarse_particles, &pre->grid));
   PetscCall(ClothGridHierarchyGetLevels(pre->grid, &nlevels));
   PetscCall(PCMGSetLevels(pc, nlevels, NULL));
   for (PetscInt l = 1; l < nlevels; l++) {
