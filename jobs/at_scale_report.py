@@ -123,6 +123,9 @@ def memory_row(run):
     row["gamg_finest_prolongator_B_per_particle"] = 1e6 * event(run, steps, "PCGAMG Opt l00", "malloc_mb") / n
     row["gamg_coarser_levels_B_per_particle"] = 1e6 * sum(event(run, steps, "PCGAMG " + kind + " " + level, "malloc_mb") for level in levels[1:] for kind in ("Gal", "Opt")) / n
     row["gamg_smoothers_B_per_particle"] = 1e6 * event(run, steps, "KSPSetUp", "malloc_mb") / n
+    # the pattern-grid multigrid's Galerkin products (src/preconditioner.c, MatPtAP outside PCSetUp; GAMG's are above)
+    row["grid_galerkin_B_per_particle"] = 1e6 * (event(run, steps, "MatPtAPSymbolic", "malloc_mb") + event(run, steps, "MatPtAPNumeric", "malloc_mb")) / n
+    row["grid_galerkin_transient_B_per_particle"] = 1e6 * event(run, steps, "MatPtAPSymbolic", "emalloc_mb") / n
     row["solve_total_B_per_particle"] = 1e6 * event(run, steps, "ClothSolve", "malloc_mb") / n
     row["solve_peak_B_per_particle"] = 1e6 * event(run, steps, "ClothSolve", "mmalloc_mb") / n
     row["solve_resident_B_per_particle"] = 1e6 * event(run, steps, "ClothSolve", "rmi_mb") / n
