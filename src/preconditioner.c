@@ -228,7 +228,7 @@ PetscErrorCode ClothPreconditionerSetFromOptions(ClothPreconditioner pre)
   PetscCall(PetscOptionsInt("-implicit_pc_lag_pause", "Solves refreshed in a row after a lag that cost more than -implicit_pc_lag_excess iterations", "ClothPreconditionerSolved", pre->lag_pause, &pre->lag_pause, NULL));
   PetscCall(PetscOptionsReal("-implicit_pc_rebuild_ratio", "Rebuild the aggregates and interpolation when a refreshed preconditioner takes more than this times the iterations after the last rebuild", "ClothPreconditionerSolved", pre->rebuild_ratio,
                              &pre->rebuild_ratio, NULL));
-  PetscCall(PetscOptionsBool("-implicit_pc_rigid_body_modes", "Near-null space of the multilevel preconditioner: the six rigid-body modes at the current positions (false: the three translations)", "ClothPreconditionerPrepare", pre->rigid_body,
+  PetscCall(PetscOptionsBool("-implicit_pc_rigid_body_modes", "Near-null space of the multilevel preconditioner: the six rigid-body modes at the current positions (false: the three translations; with it give -mg_levels_pc_type jacobi, as point-block Jacobi fails on the 6x6 coarse blocks)", "ClothPreconditionerPrepare", pre->rigid_body,
                              &pre->rigid_body, NULL));
   PetscOptionsEnd();
   PetscCheck(pre->lag_ratio == 0 || (pre->lag_ratio >= 1 && PetscIsNormalReal(pre->lag_ratio)), PetscObjectComm((PetscObject)pre->ksp), PETSC_ERR_USER_INPUT, "-implicit_pc_lag_ratio %g: expected 0 (refresh every step) or a finite number >= 1",
