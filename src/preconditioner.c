@@ -102,14 +102,16 @@ static PetscErrorCode SetGAMGDefaults(PC pc)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-static PetscErrorCode SetMultigridSmootherDefaults(KSP ksp)
+/* Chebyshev smoothing with the point-block (3x3) Jacobi blocks, or point Jacobi (smoother_pc) where the coarse blocks are
+   6x6 (GAMG with the rigid-body modes: a one-particle aggregate's rotations make them singular, measured zero pivots). */
+static PetscErrorCode SetMultigridSmootherDefaults(KSP ksp, PCType smoother_pc)
 {
   const char *prefix;
 
   PetscFunctionBeginUser;
   PetscCall(KSPGetOptionsPrefix(ksp, &prefix));
   PetscCall(SetDefaultOption(prefix, "mg_levels_ksp_type", "chebyshev"));
-  PetscCall(SetDefaultOption(prefix, "mg_levels_pc_type", "pbjacobi"));
+  PetscCall(SetDefaultOption(prefix, "mg_levels_pc_type", smoother_pc));
   PetscCall(SetDefaultOption(prefix, "mg_levels_ksp_chebyshev_esteig", "0,0.1,0,1.1"));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -210,15 +212,6 @@ PetscErrorCode ClothPreconditionerSetFromOptions(ClothPreconditioner pre)
   PetscCall(PetscObjectTypeCompareAny((PetscObject)pc, &multilevel, PCGAMG, PCML, PCHYPRE, PCMG, ""));
   pre->kept     = multilevel;
   pre->copy_aij = multilevel;
-  if (multilevel) {
-    PetscBool gamg, mg;
-    PetscCall(PetscObjectTypeCompare((PetscObject)pc, PCGAMG, &gamg));
-    PetscCall(PetscObjectTypeCompare((PetscObject)pc, PCMG, &mg));
-    if (gamg || mg) PetscCall(SetMultigridSmootherDefaults(pre->ksp));
-    if (gamg) PetscCall(SetGAMGDefaults(pc));
-    if (mg) PetscCall(SetGridMultigridDefaults(pre->ksp));
-    if (mg) PetscCall(SetUpGridMultigrid(pre, pc));
-  }
   PetscOptionsBegin(PetscObjectComm((PetscObject)pre->ksp), NULL, "Implicit solve: multilevel preconditioner", "ClothPreconditioner");
   PetscCall(PetscOptionsReal("-implicit_pc_lag_ratio", "Keep a multilevel preconditioner over steps until a solve takes more than this times the iterations after its last refresh (0: refresh every step)", "ClothPreconditionerSolved", pre->lag_ratio,
                              &pre->lag_ratio, NULL));
@@ -228,9 +221,18 @@ PetscErrorCode ClothPreconditionerSetFromOptions(ClothPreconditioner pre)
   PetscCall(PetscOptionsInt("-implicit_pc_lag_pause", "Solves refreshed in a row after a lag that cost more than -implicit_pc_lag_excess iterations", "ClothPreconditionerSolved", pre->lag_pause, &pre->lag_pause, NULL));
   PetscCall(PetscOptionsReal("-implicit_pc_rebuild_ratio", "Rebuild the aggregates and interpolation when a refreshed preconditioner takes more than this times the iterations after the last rebuild", "ClothPreconditionerSolved", pre->rebuild_ratio,
                              &pre->rebuild_ratio, NULL));
-  PetscCall(PetscOptionsBool("-implicit_pc_rigid_body_modes", "Near-null space of the multilevel preconditioner: the six rigid-body modes at the current positions (false: the three translations; with it give -mg_levels_pc_type jacobi, as point-block Jacobi fails on the 6x6 coarse blocks)", "ClothPreconditionerPrepare", pre->rigid_body,
+  PetscCall(PetscOptionsBool("-implicit_pc_rigid_body_modes", "Near-null space of the multilevel preconditioner: the six rigid-body modes at the current positions (false: the three translations; smoothing then defaults to point Jacobi, -mg_levels_pc_type)", "ClothPreconditionerPrepare", pre->rigid_body,
                              &pre->rigid_body, NULL));
   PetscOptionsEnd();
+  if (multilevel) {
+    PetscBool gamg, mg;
+    PetscCall(PetscObjectTypeCompare((PetscObject)pc, PCGAMG, &gamg));
+    PetscCall(PetscObjectTypeCompare((PetscObject)pc, PCMG, &mg));
+    if (gamg || mg) PetscCall(SetMultigridSmootherDefaults(pre->ksp, gamg && pre->rigid_body ? PCJACOBI : PCPBJACOBI));
+    if (gamg) PetscCall(SetGAMGDefaults(pc));
+    if (mg) PetscCall(SetGridMultigridDefaults(pre->ksp));
+    if (mg) PetscCall(SetUpGridMultigrid(pre, pc));
+  }
   PetscCheck(pre->lag_ratio == 0 || (pre->lag_ratio >= 1 && PetscIsNormalReal(pre->lag_ratio)), PetscObjectComm((PetscObject)pre->ksp), PETSC_ERR_USER_INPUT, "-implicit_pc_lag_ratio %g: expected 0 (refresh every step) or a finite number >= 1",
              (double)pre->lag_ratio);
   PetscCheck(pre->lag_max >= 1, PetscObjectComm((PetscObject)pre->ksp), PETSC_ERR_USER_INPUT, "-implicit_pc_lag_max %" PetscInt_FMT ": expected a positive count", pre->lag_max);
