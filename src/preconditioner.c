@@ -221,8 +221,9 @@ PetscErrorCode ClothPreconditionerSetFromOptions(ClothPreconditioner pre)
   PetscCall(PetscOptionsInt("-implicit_pc_lag_pause", "Solves refreshed in a row after a lag that cost more than -implicit_pc_lag_excess iterations", "ClothPreconditionerSolved", pre->lag_pause, &pre->lag_pause, NULL));
   PetscCall(PetscOptionsReal("-implicit_pc_rebuild_ratio", "Rebuild the aggregates and interpolation when a refreshed preconditioner takes more than this times the iterations after the last rebuild", "ClothPreconditionerSolved", pre->rebuild_ratio,
                              &pre->rebuild_ratio, NULL));
-  PetscCall(PetscOptionsBool("-implicit_pc_rigid_body_modes", "Near-null space of the multilevel preconditioner: the six rigid-body modes at the current positions (false: the three translations; smoothing then defaults to point Jacobi, -mg_levels_pc_type)", "ClothPreconditionerPrepare", pre->rigid_body,
-                             &pre->rigid_body, NULL));
+  PetscCall(PetscOptionsBool("-implicit_pc_rigid_body_modes",
+                             "Near-null space of the multilevel preconditioner: the six rigid-body modes at the current positions (false: the three translations; smoothing then defaults to point Jacobi, -mg_levels_pc_type)",
+                             "ClothPreconditionerPrepare", pre->rigid_body, &pre->rigid_body, NULL));
   PetscOptionsEnd();
   if (multilevel) {
     PetscBool gamg, mg;
