@@ -2,7 +2,8 @@
 # cmake --install into a temporary prefix, then the installed copy on its own, from a directory outside the
 # source and build trees: jobs/main_job.sbatch (run with bash, no Slurm) runs the main job's scene
 # (input/dress.yaml, the mannequin found relative to the installed scene) for 3 steps with the installed binary,
-# then the installed postprocess/garment_quality.py (which imports the installed tests/check_self_intersection.py);
+# then the installed postprocess/garment_quality.py (which imports the installed postprocess/fabric_crossings.py;
+# nothing from tests/ is installed);
 # and the installed postprocess/elastica.py --check.
 #
 #   install_run.sh MPIEXEC WORKDIR       (CLOTHSIM_BUILD set by ctest)
@@ -18,9 +19,10 @@ share=$prefix/share/clothsim
 for f in bin/clothsim share/clothsim/input/dress.yaml share/clothsim/input/mannequin/makehuman_body.obj \
          share/clothsim/input/hanging_sheet.yaml share/clothsim/jobs/main_job.sbatch share/clothsim/jobs/clothsim_job.sh \
          share/clothsim/jobs/chain.sh share/clothsim/postprocess/cloth_state.py share/clothsim/postprocess/garment_quality.py \
-         share/clothsim/postprocess/elastica.py share/clothsim/tests/check_self_intersection.py; do
+         share/clothsim/postprocess/elastica.py share/clothsim/postprocess/fabric_crossings.py; do
   [ -e "$prefix/$f" ] || fail "$f not installed"
 done
+[ ! -e "$share/tests" ] || fail "$share/tests installed: the installed tools must not depend on tests/"
 [ -x "$prefix/bin/clothsim" ] && [ -x "$share/jobs/main_job.sbatch" ] || fail "installed programs not executable"
 echo "installed $(find "$prefix" -type f | wc -l) files into $prefix"
 
