@@ -9,6 +9,7 @@
 #include <petscsys.h>
 #include "fabric.h"
 #include "model.h"
+#include "test_support.h"
 
 /* Rolls the piece's flat positions flat[3 n] (pattern plane x, y; centre c) onto the cylinder of curvature kappa
    bending along the direction phi: the coordinate s along phi becomes an arc. */
@@ -95,6 +96,7 @@ int main(int argc, char **argv)
   }
   PetscCall(ClothModelDestroy(&model));
   PetscCall(SceneDestroy(&scene));
+  PetscCall(TestCheckExpectationsUsed());
   PetscCall(PetscFinalize());
   return 0;
 }

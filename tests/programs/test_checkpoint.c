@@ -10,6 +10,7 @@
 #include <unistd.h>
 #include "checkpoint.h"
 #include "h5util.h"
+#include "test_support.h"
 
 static const char help[] = "Checkpoint write/read and refusal tests.\n";
 
@@ -319,6 +320,7 @@ int main(int argc, char **argv)
   PetscCall(TestRefusals(comm, dir, 29));
   PetscCall(PetscSNPrintf(subdir, sizeof(subdir), "%s/keep", dir));
   PetscCall(TestKeep(comm, subdir, 5));
+  PetscCall(TestCheckExpectationsUsed());
   PetscCall(PetscFinalize());
   return 0;
 }

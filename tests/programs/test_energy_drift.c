@@ -8,6 +8,7 @@
 #include "scene.h"
 #include "cloth.h"
 #include "integrator.h"
+#include "test_support.h"
 
 /* v_k = 0.5 sin(1.7 k + 2.3 c + c^2) m/s for particle k (natural order), component c. */
 static PetscErrorCode SetInitialVelocity(Cloth cloth, Vec v)
@@ -70,6 +71,7 @@ int main(int argc, char **argv)
   PetscCall(ClothIntegratorDestroy(&integ));
   PetscCall(ClothDestroy(&cloth));
   PetscCall(SceneDestroy(&scene));
+  PetscCall(TestCheckExpectationsUsed());
   PetscCall(PetscFinalize());
   return 0;
 }

@@ -13,6 +13,7 @@
 #include "forces.h"
 #include "seam.h"
 #include "cloth.h"
+#include "test_support.h"
 
 static const PetscReal tolerance = 1e-6;
 
@@ -355,6 +356,7 @@ int main(int argc, char **argv)
   PetscCall(CheckFrictionSlide());
   PetscCall(CheckGaussNewton(rnd));
   PetscCall(PetscRandomDestroy(&rnd));
+  PetscCall(TestCheckExpectationsUsed());
   PetscCall(PetscFinalize());
   return 0;
 }

@@ -12,6 +12,7 @@
 #include "geometry.h"
 #include "cellgrid.h"
 #include "vec3.h"
+#include "test_support.h"
 
 #define NCASES 2000
 #define NSAMPLES 40 /* per barycentric axis / per segment */
@@ -230,6 +231,7 @@ int main(int argc, char **argv)
   PetscCall(CheckCellGridQueries(rnd));
   PetscCall(CheckCellGridBuildTerminates());
   PetscCall(PetscRandomDestroy(&rnd));
+  PetscCall(TestCheckExpectationsUsed());
   PetscCall(PetscFinalize());
   return 0;
 }

@@ -174,6 +174,7 @@ int main(int argc, char **argv)
     PetscCall(ClothGridHierarchyDestroy(&gh));
     PetscCall(ClothDestroy(&cloth));
     PetscCall(SceneDestroy(&scene));
+    PetscCall(TestCheckExpectationsUsed());
     PetscCall(PetscFinalize());
     return 0;
   }
@@ -207,6 +208,7 @@ int main(int argc, char **argv)
   PetscCall(ClothGridHierarchyDestroy(&gh));
   PetscCall(ClothDestroy(&cloth));
   PetscCall(SceneDestroy(&scene));
+  PetscCall(TestCheckExpectationsUsed());
   PetscCall(PetscFinalize());
   return 0;
 }

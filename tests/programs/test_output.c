@@ -15,6 +15,7 @@
    self_contacts = step + 1, self_contact_particles = step + 2. */
 #include <string.h>
 #include "output.h"
+#include "test_support.h"
 
 static const char help[] = "Writes XDMF + HDF5 output series for check_xdmf.py.\n";
 
@@ -196,6 +197,7 @@ int main(int argc, char **argv)
   PetscCall(WriteScene(comm, dir, &topology));
   PetscCall(WriteFresh(comm, dir, &topology));
   PetscCall(PetscFree(quads));
+  PetscCall(TestCheckExpectationsUsed());
   PetscCall(PetscFinalize());
   return 0;
 }

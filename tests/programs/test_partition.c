@@ -197,6 +197,7 @@ int main(int argc, char **argv)
   PetscCall(CheckAgainstSerial(cloth, scene, model));
   PetscCall(ClothDestroy(&cloth));
   PetscCall(SceneDestroy(&scene));
+  PetscCall(TestCheckExpectationsUsed());
   PetscCall(PetscFinalize());
   return 0;
 }

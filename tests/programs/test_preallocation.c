@@ -92,6 +92,7 @@ int main(int argc, char **argv)
   PetscCall(PetscFree(adjncy));
   PetscCall(ClothDestroy(&cloth));
   PetscCall(SceneDestroy(&scene));
+  PetscCall(TestCheckExpectationsUsed());
   PetscCall(PetscFinalize());
   return 0;
 }

@@ -4,6 +4,7 @@
    Run from the source directory (ctest does): mpiexec -n P build/test_scene [-hanging FILE] [-two_pieces FILE] */
 #include <petscsys.h>
 #include "scene.h"
+#include "test_support.h"
 
 #define CheckInt(comm, got, want, what) PetscCheck((got) == (want), comm, PETSC_ERR_PLIB, "%s: got %" PetscInt_FMT ", expected %" PetscInt_FMT, what, (PetscInt)(got), (PetscInt)(want))
 #define CheckReal(comm, got, want, what) PetscCheck(PetscAbsReal((got) - (want)) <= 1e-12 * (1 + PetscAbsReal(want)), comm, PETSC_ERR_PLIB, "%s: got %.17g, expected %.17g", what, (double)(got), (double)(want))
@@ -159,6 +160,7 @@ int main(int argc, char **argv)
   PetscCall(PetscOptionsGetString(NULL, NULL, "-two_pieces", two_pieces, sizeof(two_pieces), NULL));
   PetscCall(TestHangingSheet(PETSC_COMM_WORLD, hanging));
   PetscCall(TestTwoPieces(PETSC_COMM_WORLD, two_pieces));
+  PetscCall(TestCheckExpectationsUsed());
   PetscCall(PetscFinalize());
   return 0;
 }

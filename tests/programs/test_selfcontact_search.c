@@ -11,6 +11,7 @@
 #include "scene.h"
 #include "cloth.h"
 #include "selfcontact.h"
+#include "test_support.h"
 
 typedef struct {
   PetscInt  panels;
@@ -304,6 +305,7 @@ int main(int argc, char **argv)
   PetscCall(ClothSelfContactDestroy(&sc));
   PetscCall(ClothDestroy(&cloth));
   PetscCall(SceneDestroy(&scene));
+  PetscCall(TestCheckExpectationsUsed());
   PetscCall(PetscFinalize());
   return 0;
 }

@@ -6,6 +6,7 @@
 #include <petscsys.h>
 #include "scene.h"
 #include "run.h"
+#include "test_support.h"
 
 int main(int argc, char **argv)
 {
@@ -37,6 +38,7 @@ int main(int argc, char **argv)
   PetscCall(ClothRunDestroy(&run));
   PetscCall(SceneDestroy(&scene));
   PetscCallMPI(MPI_Comm_free(&comm));
+  PetscCall(TestCheckExpectationsUsed());
   PetscCall(PetscFinalize());
   return 0;
 }

@@ -100,6 +100,7 @@ int main(int argc, char **argv)
   PetscCall(MatDestroy(&A));
   PetscCall(ClothDestroy(&cloth));
   PetscCall(SceneDestroy(&scene));
+  PetscCall(TestCheckExpectationsUsed());
   PetscCall(PetscFinalize());
   return 0;
 }
