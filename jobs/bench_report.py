@@ -6,7 +6,7 @@
       step, memory per particle, the bytes the run had to move (model below), the bandwidth roofline and the
       fraction of it achieved, and the physics at the end (lowest point, free-edge middle) from the checkpoint
   bench_report.py peers --jsonl RESULTS --csv CSV
-      the JSON lines of ../shared/peers/run_all.sh -> CSV rows
+      the JSON lines of the peers' run_all.sh (jobs/bench.sh, PEERS_DIR) -> CSV rows
   bench_report.py report --csv CSV --png PNG --markdown MD
       the whole CSV as a plot and as a markdown table between the markers
       <!-- bench table begin --> / <!-- bench table end --> of MD, with the ratios to the peers
@@ -138,7 +138,7 @@ def cmd_peers(a):
             "krylov_its_per_step": r.get("cg_iters_mean", ""), "min_y": f"{r['min_y']:.4f}",
             "free_edge_mid_x": f"{r['free_edge_mid'][0]:.4f}", "free_edge_mid_y": f"{r['free_edge_mid'][1]:.4f}",
             "free_edge_mid_z": f"{r['free_edge_mid'][2]:.4f}", "date": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
-            "host": socket.gethostname(), "command": f"../shared/peers/{r['peer']}_sheet.py --n {r['n']} (run_all.sh)"})
+            "host": socket.gethostname(), "command": f"{r['peer']}_sheet.py --n {r['n']} (the peers' run_all.sh)"})
     append_rows(a.csv, rows)
 
 

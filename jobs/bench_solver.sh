@@ -5,7 +5,7 @@
 #   default          today's default: point-block Jacobi below 2,500 particles, the pattern-grid multigrid from 2,500
 #                    on (the sheet has no seams);
 #   gamg             GAMG forced at every size (the default of sheets from 40,000 particles until 2026-11-25 evening);
-# and, when its environment exists (bash ../shared/peers/setup.sh newton, beside a checkout that has it), Newton's
+# and, when PEERS_DIR names the peer simulators' drivers and Newton's environment exists there, Newton's
 # semi-implicit peer at 65 and 129; then the main job (the dress, 2 ranks) with the projected and with the
 # Gauss-Newton element stiffness (jobs/results/bench/dress_*.log, -log_view). Writes jobs/results/bench/bench.csv (appended), bench.png and the table in
 # docs/performance.md. Keep the machine otherwise idle: it takes about 20 minutes on 2 cores.
@@ -21,7 +21,7 @@ export GRIDS=${GRIDS:-65 129 257 513} RANKS_LIST=${RANKS_LIST:-1 2}
 export T_FINAL_257=${T_FINAL_257:-0.1} T_FINAL_513=${T_FINAL_513:-0.0125} T_FINAL_1025=${T_FINAL_1025:-0.0125}
 large=${LARGE_GRID-1025}
 peers=
-[[ -x ../shared/peers/.venv-newton/bin/python ]] && peers=newton
+[[ -n ${PEERS_DIR:-} && -x $PEERS_DIR/.venv-newton/bin/python ]] && peers=newton
 
 PEERS= TAG=earlier_default EXTRA="-pc_type pbjacobi" bash jobs/bench.sh
 PEERS= TAG=default EXTRA= bash jobs/bench.sh

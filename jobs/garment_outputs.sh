@@ -15,7 +15,7 @@
 #   MOVIE         1: the movie (needs xvfb-run and ffmpeg, often missing on a compute node)   [1]
 #   GARMENT_OUTPUTS_CHECK  1: the quality as always, but no pictures: parse every picture command's arguments with
 #                 the tool's own parser (render.py's and movie.py's parse_args) and print the commands; exit 1 when
-#                 one does not parse (tests/install_run.sh checks the installed main_job.sbatch this way)   [0]
+#                 one does not parse (tests/drivers/install_run.sh checks the installed main_job.sbatch this way)   [0]
 set -uo pipefail
 [ $# -eq 2 ] || { echo "usage: bash jobs/garment_outputs.sh OUTPUT_DIR NAME" >&2; exit 2; }
 output_dir=$1 name=$2

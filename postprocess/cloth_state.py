@@ -1,7 +1,8 @@
 """Shared helpers of the postprocess tools: read a clothsim checkpoint, an XDMF series and a scene.
 
 Positions come from /state/position, shape (N, 3), in global (natural) particle order: pieces in scene
-order, each row by row (DESIGN.md "Files written"). Grid sizes come from the scene (or its -grid override).
+order, each row by row (docs/checkpoint.md, docs/model.md section 1). Grid sizes come from the scene (or its
+-grid override).
 A series NAME.h5 holds one group /frames/NNNNNN per frame (docs/checkpoint.md "XDMF series").
 """
 import csv

@@ -6,7 +6,7 @@
 clothsim writes OUTPUT_DIR/quality.json at the end of a run with seams (src/quality.h): the widest seam
 gap, particles inside the body, the largest link strain, the kinetic energy, wall time and ranks. This
 tool adds `fabric_crossings`: the number of fabric edges crossing fabric triangles in the last frame of
-OUTPUT_DIR/NAME.h5, by the edge-triangle test of tests/check_self_intersection.py (the same test the
+OUTPUT_DIR/NAME.h5, by the edge-triangle test of fabric_crossings.py (the same test the
 self-collision tests use), and rewrites the file. Sewn pairs are held by stiff links, not merged, so
 the particles a seam link joins (quality.json's seam_links: a node and the one or two nodes of the
 point it is sewn to), and two particles both joined to a third (where seams meet), count as one
@@ -33,9 +33,8 @@ import sys
 import h5py
 import numpy as np
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests"))
-from check_self_intersection import crossings, primitives  # noqa: E402
-from cloth_state import particle_name, piece_grids, read_scene  # noqa: E402
+from fabric_crossings import crossings, primitives
+from cloth_state import particle_name, piece_grids, read_scene
 
 
 def joined_pairs(seam_links, n):

@@ -14,7 +14,7 @@ lowest-left corner is at (0, 0). Units follow $INSUNITS (mm, cm, m or inches) an
 The output lists pieces with name and boundaries; add fabric, grid and placement to use them.
 
 export: writes the outlines of a scene's pieces (those given by `boundaries:` or `size:`) as such a DXF,
-for CAD systems and for the round trip test (tests/garment.cmake). Uses ezdxf (Debian: python3-ezdxf)."""
+for CAD systems and for the round trip test (tests/cmake/garment.cmake). Uses ezdxf (Debian: python3-ezdxf)."""
 import argparse
 import math
 import sys

@@ -6,7 +6,7 @@ angle. Runs under ParaView's Python, which needs an X server for rendering:
   xvfb-run -a pvpython postprocess/render.py OUT.xdmf --frame 10 --view side --size 800x1200 \\
       --color-by speed --mesh input/mannequin/makehuman_body.obj --mesh-scale 0.1 --out side.png
 
-Axes: y is up (DESIGN.md); the front is the +z side (the camera looks along -z), the side view looks
+Axes: y is up (docs/scene_format.md, gravity); the front is the +z side (the camera looks along -z), the side view looks
 along -x (from +x), the back along +z, the top down along -y. --up changes the up axis.
 The fabric is coloured by (--color-by):
   piece     shaded as cloth: one fabric colour per pattern piece (the connected sets of quads of the series'

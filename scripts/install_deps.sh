@@ -13,7 +13,7 @@
 #   postprocess:  hdf5-tools python3-h5py python3-matplotlib python3-numpy python3-ezdxf
 #   ParaView:     paraview python3-paraview xvfb xauth   (pvpython reads the XDMF output; xvfb-run renders)
 #   movies:       ffmpeg   (postprocess/movie.py encodes the rendered frames into MP4; ffprobe counts them in tests)
-#   Slurm:        slurm-wlm   (tests/slurm_chain.sh starts a private slurmctld + slurmd for jobs/)
+#   Slurm:        slurm-wlm   (tests/drivers/slurm_chain.sh starts a private slurmctld + slurmd for jobs/)
 # gcc, libc6-dev and make are on most machines already but not on a minimal Debian image, and nothing
 # above pulls them in with --no-install-recommends. python3-ezdxf (0.18, Debian's) reads DXF pattern files.
 set -euo pipefail

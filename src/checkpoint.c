@@ -352,7 +352,7 @@ static PetscErrorCode CheckpointFailureReason(MPI_Comm comm, PetscErrorCode ierr
    succeeded does not wait forever. The file is emptied before it is closed: closing flushes HDF5's metadata
    into it, and a failed H5Fclose in HDF5 1.10 leaves a dangling identifier that crashes the library's
    clean-up at MPI_Finalize (measured with a file size limit, where emptying does not help: see
-   tests/checkpoint_write_failure.sh). */
+   tests/drivers/checkpoint_write_failure.sh). */
 static PetscErrorCode CheckpointWriteTemporary(MPI_Comm comm, const char tmp[], const ClothCheckpointInfo *info, PetscInt nfields, const ClothCheckpointField fields[])
 {
   PetscErrorCode ierr;

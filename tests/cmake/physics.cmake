@@ -1,0 +1,71 @@
+# Physics of the integrators: static equilibrium, energy conservation, coming to rest.
+clothsim_add_test_program(test_run_to_rest test_run_to_rest.c)
+clothsim_add_test_program(test_energy_drift test_energy_drift.c)
+
+# Spring-mass: elongation m g / k = 5e-4 * 9.81 / 1000 = 4.905e-6 m (tests/data/spring_mass.yaml);
+# the implicit solve is converged to rtol 1e-8, so 1e-5 relative is the check's tolerance.
+clothsim_add_mpi_test(spring_mass_elongation 1 $<TARGET_FILE:test_run_to_rest>
+  -scene tests/data/spring_mass.yaml -output_dir ${CMAKE_BINARY_DIR}/test-output/spring_mass
+  -expect_elongation 4.905e-6 -expect_rtol 1e-5 -progress_seconds 100)
+
+clothsim_add_mpi_test(energy_drift_symplectic 1 $<TARGET_FILE:test_energy_drift>)
+clothsim_add_mpi_test(energy_drift_symplectic_np2 2 $<TARGET_FILE:test_energy_drift>)
+
+# Coming to rest at the right place: a sheet hanging in its plane from its whole top edge, damping 5 1/s
+# (tests/data/hanging_sheet_edge_pinned.yaml), 10 s simulated. Its rest state is known exactly: each column
+# is a chain of springs, and the bottom row drops M g (n - 1) / (2 n k) (derived in the scene file). So the
+# kinetic energy must fall below 1e-10 J *and* the largest drop must equal that value within 1e-6
+# relative: a wrong stiffness, mass or gravity, or a damping that acts at rest, moves it by far more. The
+# tolerance covers what the runs leave: the Krylov solver's tolerance on each step's velocity change and the
+# residual motion (below 1e-10 J the amplitude is under 1e-9 m, 1e-6 of the drop).
+# implicit: 65 x 65 at dt = 1/60 s, 2 ranks (drop 9.6590769231e-4 m); symplectic: 17 x 17 at 2e-4 s
+# (9.2329411765e-4 m); explicit Euler: 3 x 3 at 5e-6 s (6.54e-4 m; it needs h < c / omega_max^2, so only a
+# tiny grid is affordable).
+clothsim_add_mpi_test(hanging_sheet_rest_implicit 2 $<TARGET_FILE:test_run_to_rest>
+  -scene tests/data/hanging_sheet_edge_pinned.yaml -grid 65 -dt 0.016666666666666666 -t_final 10 -output_every 0
+  -output_dir ${CMAKE_BINARY_DIR}/test-output/rest_implicit -expect_ke_below 1e-10
+  -expect_elongation 9.6590769231e-4 -expect_rtol 1e-6 -progress_seconds 100)
+clothsim_add_mpi_test(hanging_sheet_rest_symplectic 1 $<TARGET_FILE:test_run_to_rest>
+  -scene tests/data/hanging_sheet_edge_pinned.yaml -integrator symplectic -dt 2e-4 -t_final 10 -output_every 0
+  -output_dir ${CMAKE_BINARY_DIR}/test-output/rest_symplectic -expect_ke_below 1e-10
+  -expect_elongation 9.2329411765e-4 -expect_rtol 1e-6 -progress_seconds 100)
+clothsim_add_mpi_test(hanging_sheet_rest_explicit 1 $<TARGET_FILE:test_run_to_rest>
+  -scene tests/data/hanging_sheet_edge_pinned.yaml -grid 3 -integrator explicit -dt 5e-6 -t_final 10 -output_every 0
+  -output_dir ${CMAKE_BINARY_DIR}/test-output/rest_explicit -expect_ke_below 1e-10
+  -expect_elongation 6.54e-4 -expect_rtol 1e-6 -progress_seconds 100)
+
+# A breaking-down preconditioner (ICC(0) on large steps) is replaced by the fallback solver for that solve.
+clothsim_add_script_test(implicit_pc_fallback check_pc_fallback.sh ${MPIEXEC_EXECUTABLE} ${CMAKE_CURRENT_BINARY_DIR}/implicit_pc_fallback)
+
+# The multilevel implicit solves (tests/drivers/check_multilevel_solver.sh, 1 rank): the pattern-grid multigrid's and GAMG's
+# Krylov iterations per step at most 12 and 16 at 65 x 65 and 129 x 129 and flat in the size (129 at most 1.5 x 65),
+# the same answer as point-block Jacobi to 1e-8 m at rtol 1e-9, restarts bit for bit, and the default preconditioner
+# by size and seams. About 40 s on an idle machine.
+clothsim_add_script_test(implicit_multilevel_solver check_multilevel_solver.sh ${MPIEXEC_EXECUTABLE} ${CMAKE_CURRENT_BINARY_DIR}/implicit_multilevel_solver)
+
+# The pattern-grid multigrid's levels (tests/programs/test_gridhierarchy.c): level sizes from the scene's grids, rows of every
+# interpolation summing to 1, a field linear in the grid indices in the range of every level's interpolation (relative
+# residual <= 1e-10, measured <= 3e-15), a quadratic one not (>= 1e-3, measured >= 8.7e-3); the three small pieces of
+# jacobian_two_pieces.yaml at ratios 2 and 4, a 39 x 39
+# sheet at ratio 4 (its second coarsening interpolates inside a shorter last interval: 32, 36, 38); with pins
+# (seam_two_pieces.yaml, one piece pinned whole) the coarse space vanishes on them. 1 and 3 ranks, about 1 s each.
+clothsim_add_test_program(test_gridhierarchy test_gridhierarchy.c)
+foreach(np 1 3)
+  clothsim_add_mpi_test(grid_hierarchy_three_pieces_r2_np${np} ${np} $<TARGET_FILE:test_gridhierarchy> -scene tests/data/jacobian_two_pieces.yaml -ratio 2)
+  clothsim_add_mpi_test(grid_hierarchy_three_pieces_r4_np${np} ${np} $<TARGET_FILE:test_gridhierarchy> -scene tests/data/jacobian_two_pieces.yaml -ratio 4)
+  clothsim_add_mpi_test(grid_hierarchy_pinned_np${np} ${np} $<TARGET_FILE:test_gridhierarchy> -scene tests/data/seam_two_pieces.yaml -ratio 4 -pinned)
+  clothsim_add_mpi_test(grid_hierarchy_sheet39_r4_np${np} ${np} $<TARGET_FILE:test_gridhierarchy> -scene tests/data/free_sheet.yaml -grid 39 -ratio 4)
+endforeach()
+
+# Bending hysteresis on a clamped strip loaded quasi-statically (tests/drivers/bend_hysteresis.sh, 2 ranks): tip deflection
+# on the loading branch M = B K + HB within 1 % (measured -0.16 %; without HB -0.24 %), restart bit-identical
+# (sliders in the checkpoint), refused with the link bending model.
+clothsim_add_script_test(bend_hysteresis_cantilever bend_hysteresis.sh)
+set_tests_properties(bend_hysteresis_cantilever PROPERTIES PROCESSORS 2 TIMEOUT 300)
+
+# Shear hysteresis in a run (tests/drivers/shear_hysteresis.sh, 2 ranks): a panel sheared in its plane by tilted gravity;
+# the sliders slide; the bottom edge moves as far as the rows of cells shear, each holding the weight below it
+# (elastic, or stick then slide), within 8 % (measured +5.0 % with shear friction, +3.0 % without), restart
+# bit-identical (shear_slider in the checkpoint), refused with the link shear model, shear_hysteresis_ratio.
+clothsim_add_script_test(shear_hysteresis_panel shear_hysteresis.sh)
+set_tests_properties(shear_hysteresis_panel PROPERTIES PROCESSORS 2 TIMEOUT 300)

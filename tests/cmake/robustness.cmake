@@ -1,0 +1,93 @@
+# A diverging run stops cleanly with its last good state; a recoverable failure is recovered by halving.
+clothsim_add_script_test(divergence_handling robustness.sh)
+# A diverging run with self-collision stops like one without it; absurd thicknesses stop with a clear error (no hang).
+clothsim_add_script_test(divergence_handling_self_collision robustness_self_collision.sh)
+set_tests_properties(divergence_handling_self_collision PROPERTIES TIMEOUT 300)
+
+# A failed step is undone completely, sliders and held contacts included (tests/drivers/check_failed_step_rollback.sh, 2 ranks):
+# the checkpoint written after a divergence is bit-identical to that of a run stopped at the last good step.
+clothsim_add_script_test(failed_step_rollback check_failed_step_rollback.sh ${MPIEXEC_EXECUTABLE} ${CMAKE_CURRENT_BINARY_DIR}/failed_step_rollback)
+set_tests_properties(failed_step_rollback PROPERTIES PROCESSORS 2)
+
+# Bad options and faults (issue 24): clothsim must refuse each with its exit status (src/errors.h: 2 bad input,
+# 3 file) and one "ERROR: " line naming the option and what is allowed, without PETSc's traceback (expect_error.sh).
+# The bad scenes and meshes of tests/bad_input/ are run by scene.cmake; these give options to a good scene.
+# robustness_case(NAME STATUS RANKS SCENE TEXT... -- OPTION...)
+set(robustness_cases "")
+function(robustness_case name status ranks scene)
+  clothsim_add_script_test(robust_${name} expect_error.sh --status ${status} ${ranks} ${scene} ${ARGN})
+  set_property(TEST robust_${name} APPEND PROPERTY ENVIRONMENT "MPIEXEC=${MPIEXEC_EXECUTABLE}")
+  set_tests_properties(robust_${name} PROPERTIES TIMEOUT 150 PROCESSORS ${ranks} LABELS robustness)
+endfunction()
+set(sheet input/hanging_sheet.yaml)
+# 32-bit overflows and unchecked sizes
+robustness_case(t_final_huge 2 1 ${sheet} "-t_final 1e+09 s with -dt 0.00416667 s needs 2.4e+11 steps: expected at most 2147483647 steps" -- -t_final 1e9)
+robustness_case(dt_huge 2 1 ${sheet} "-t_final 1 s with -dt 1e+09 s is less than half a step: expected -dt <= -t_final" -- -dt 1e9)
+robustness_case(dt_inf 2 1 ${sheet} "option -dt inf: expected a finite number > 0 s" -- -dt inf)
+robustness_case(dt_nan 2 2 ${sheet} "option -dt nan: expected a finite number > 0 s" -- -dt nan)
+robustness_case(dt_text 2 1 ${sheet} "Input string abc has no numeric value" -- -dt abc)
+robustness_case(grid_overflow 2 1 ${sheet} "-grid 65536: the pieces have 4294967296 particles in all: expected at most 715827882" -- -grid 65536)
+robustness_case(grid_memory 2 2 ${sheet} "the grids ('sheet' 26000 x 26000) give 676000000 particles" "GB of memory on a node" -- -grid 26000)
+robustness_case(steps_beyond_int 2 1 ${sheet} "option -steps 3000000000: expected an integer >= 0 and <= 2147483647" -- -steps 3000000000)
+robustness_case(steps_wraps_positive 2 2 ${sheet} "option -steps 5000000000: expected an integer >= 0 and <= 2147483647" -- -steps 5000000000)
+robustness_case(checkpoint_every_beyond_int 2 1 ${sheet} "option -checkpoint_every 4294967297: expected an integer >= 0 and <= 2147483647" -- -checkpoint_every 4294967297)
+robustness_case(max_halvings_negative 2 1 ${sheet} "option -integrator_max_halvings -1: expected an integer >= 0 and <= 30" -- -integrator_max_halvings -1)
+robustness_case(grid_too_small 2 1 ${sheet} "option -grid 1: expected an integer >= 2" -- -grid 1)
+robustness_case(scene_dev_zero 2 1 /dev/zero "scene /dev/zero: the file is larger than 64 MB: expected a YAML scene file")
+robustness_case(scene_directory 3 2 tests "scene tests: cannot read the file (Is a directory)")
+robustness_case(scene_binary 2 1 tests/data/table.obj "expected a map with keys among")
+# nonsense accepted
+robustness_case(checkpoint_keep_negative 2 1 ${sheet} "option -checkpoint_keep -1: expected an integer >= 0" -- -checkpoint_keep -1)
+robustness_case(gravity_ramp_inf 2 1 ${sheet} "option -gravity_ramp inf: expected a finite number >= 0 s" -- -gravity_ramp inf)
+robustness_case(progress_negative 2 1 ${sheet} "option -progress_seconds -1: expected a finite number >= 0 s" -- -progress_seconds -1)
+robustness_case(output_every_negative 2 1 ${sheet} "option -output_every -3: expected an integer >= 0" -- -output_every -3)
+robustness_case(output_dir_empty 2 1 ${sheet} "option -output_dir '': expected a directory name" -- -output_dir '')
+robustness_case(collision_cell_nan 2 1 input/sphere_drape.yaml "option -collision_cell_size nan: expected a finite number >= 0 m" -- -collision_cell_size nan)
+robustness_case(perturbation_inf 2 1 ${sheet} "option -cloth_perturbation inf: expected a finite number >= 0 m" -- -cloth_perturbation inf)
+robustness_case(self_collision_thickness_inf 2 2 ${sheet} "Self-collision thickness" "expected a positive number of at most 50 particle spacings" -- -self_collision -self_collision_thickness inf -self_collision_stiffness 20)
+robustness_case(self_collision_thickness_10m 2 1 ${sheet} "Self-collision thickness" "expected a positive number of at most 50 particle spacings" -- -self_collision -self_collision_thickness 10 -self_collision_stiffness 20)
+robustness_case(self_collision_stiffness_inf 2 1 ${sheet} "Self-collision needs a positive, finite stiffness" -- -self_collision -self_collision_thickness 0.01 -self_collision_stiffness inf)
+# restart faults: a directory, a missing file, a file that is not HDF5
+robustness_case(restart_directory 3 2 ${sheet} "Checkpoint tests is a directory: expected a file (one of the checkpoint_NNNNNN.h5 in it" -- -restart tests)
+robustness_case(restart_missing 3 1 ${sheet} "Checkpoint tests/no_such_checkpoint.h5 does not exist" -- -restart tests/no_such_checkpoint.h5)
+robustness_case(restart_not_hdf5 3 1 ${sheet} "Checkpoint tests/data/table.obj cannot be opened as an HDF5 file" -- -restart tests/data/table.obj)
+
+# A METIS failure on rank 0 is raised on every rank (src/partition.c), on 1 and 2 ranks.
+clothsim_add_test_program(test_partition_failure test_partition_failure.c)
+clothsim_add_mpi_test(robust_metis_failure_np1 1 $<TARGET_FILE:test_partition_failure>)
+clothsim_add_mpi_test(robust_metis_failure_np2 2 $<TARGET_FILE:test_partition_failure>)
+set_tests_properties(robust_metis_failure_np1 robust_metis_failure_np2 PROPERTIES TIMEOUT 60)
+
+# An output directory belongs to one run: a new run into used results and a second live run are refused, pruning
+# keeps other runs' checkpoints, the lock goes with its holder (tests/drivers/output_dir_ownership.sh).
+clothsim_add_script_test(robust_output_dir_ownership output_dir_ownership.sh)
+set_tests_properties(robust_output_dir_ownership PROPERTIES TIMEOUT 300 PROCESSORS 2 LABELS robustness)
+
+# A full disk stops the run with exit 3 naming the file and "No space left on device", leaving valid files
+# (tests/drivers/full_disk.sh; needs root to mount a small tmpfs, else skipped).
+clothsim_add_script_test(robust_full_disk full_disk.sh)
+set_tests_properties(robust_full_disk PROPERTIES TIMEOUT 300 PROCESSORS 2 SKIP_RETURN_CODE 77 LABELS robustness)
+
+# A disk that fills inside a checkpoint's HDF5 writes (after the space check): exit 3 naming the temporary file and
+# "No space left on device", the file deleted, the earlier checkpoints complete (tests/drivers/checkpoint_write_failure.sh,
+# with the fault injector tests/fault/fault_full_disk.c).
+add_library(fault_full_disk SHARED ${CMAKE_CURRENT_SOURCE_DIR}/fault/fault_full_disk.c)
+target_link_libraries(fault_full_disk PRIVATE ${CMAKE_DL_LIBS})
+clothsim_add_script_test(robust_checkpoint_write_failure checkpoint_write_failure.sh $<TARGET_FILE:fault_full_disk>)
+set_tests_properties(robust_checkpoint_write_failure PROPERTIES TIMEOUT 200 PROCESSORS 2 LABELS robustness)
+
+# A path longer than Open MPI's ompio opens (244 characters) works: ROMIO is chosen before the first file; the
+# files equal a short-path run's, a restart reads them; with OMPI_MCA_io=ompio forced it is refused before the
+# first step (tests/drivers/long_path.sh).
+clothsim_add_script_test(robust_long_output_path long_path.sh)
+set_tests_properties(robust_long_output_path PROPERTIES TIMEOUT 200 PROCESSORS 2 SKIP_RETURN_CODE 77 LABELS robustness)
+
+# User errors end with one message and exit 2 whether raised on every rank or on one (no hang): tests/drivers/error_exit.sh.
+clothsim_add_test_program(test_error_exit test_error_exit.c)
+clothsim_add_script_test(robust_error_exit error_exit.sh)
+set_tests_properties(robust_error_exit PROPERTIES TIMEOUT 200 PROCESSORS 2 LABELS robustness)
+# misspelled choices: PETSc's own messages, as one line with exit 2
+robustness_case(partition_unknown 2 2 ${sheet} "Unknown option foo for -cloth_partition. Available options: metis block" -- -cloth_partition foo)
+robustness_case(ksp_type_unknown 2 1 ${sheet} "Unable to find requested KSP type foo" -- -ksp_type foo -steps 1)
+robustness_case(integrator_unknown 2 1 ${sheet} "Unknown integrator 'foo': expected explicit, symplectic or implicit" -- -integrator foo)
+robustness_case(too_many_ranks 2 5 ${sheet} "4 particles cannot be shared by 5 ranks: expected at most 4 ranks" -- -grid 2)

@@ -1,0 +1,76 @@
+#!/bin/bash
+# The multilevel implicit solves (src/preconditioner.c, src/gridhierarchy.c), on the hanging sheet, 24 steps of 1/240 s,
+# 1 rank, for the pattern-grid multigrid (-pc_type mg, the default of a scene without seams) and GAMG:
+# 1. Krylov iterations per step stay bounded and flat in the sheet's size: at most 12 (mg; measured 5.4 and 6.6) and 16
+#    (GAMG; measured 8.1 and 8.9) per step at 65 x 65 and at 129 x 129, and the 129 count at most 1.5 times the 65 one
+#    (point-block Jacobi's grows 2x from 65 to 129: 147 and 293 per step over a second, docs/performance.md).
+# 2. They solve the same system: each and point-block Jacobi, all to rtol 1e-9, end within 1e-8 m (measured 1.2e-11 and 1.8e-11 m).
+# 3. The default preconditioner: point-block Jacobi below -implicit_pc_grid_min_particles (2500; the 33 x 33 sheet),
+#    mg from it on without seams (65 x 65), GAMG for a scene with seams from -implicit_pc_multilevel_min_particles on.
+# 4. A restart from a checkpoint continues bit for bit (the hierarchy is rebuilt at every checkpoint, as a restart
+#    rebuilds it), with the coarse levels lagged over steps (-implicit_pc_lag_ratio 1.2, the default): the 65 x 65 runs
+#    must have lagged steps (measured: mg 3 rebuilt, 2 refreshed, 19 lagged; GAMG 3, 4, 17), so that the restart covers them.
+# Usage: check_multilevel_solver.sh MPIEXEC WORKDIR      (CLOTHSIM: the binary)
+set -euo pipefail
+mpiexec=$1 work=$2
+fail() { echo "FAIL: $*"; exit 1; }
+rm -rf "$work"
+mkdir -p "$work"
+run() { # run NAME OPTIONS...: the log in $work/NAME.log, the results in $work/NAME
+  local name=$1
+  shift
+  "$mpiexec" -n 1 "$CLOTHSIM" -scene input/hanging_sheet.yaml -steps 24 -output_every 0 -output_dir "$work/$name" "$@" > "$work/$name.log" 2>&1 ||
+    { cat "$work/$name.log"; fail "run $name failed"; }
+  grep -E "^Implicit system|^Done" "$work/$name.log"
+}
+its_per_step() { sed -n 's/^Done: 24 steps (24 sub-steps), \([0-9]*\) Krylov iterations.*/\1/p' "$work/$1.log" | awk '{ printf "%.2f", $1 / 24 }'; }
+uses() { grep -q "preconditioner $2\$" "$work/$1.log" || fail "$1: expected the preconditioner $2, got: $(grep '^Implicit system' "$work/$1.log")"; }
+same_answer() { # same_answer RUN_A RUN_B: end positions within 1e-8 m
+  /usr/bin/python3 - "$work/$1/checkpoint_000024.h5" "$work/$2/checkpoint_000024.h5" "$1" "$2" <<'PY'
+import sys
+import h5py
+import numpy as np
+a, b = (h5py.File(p, "r")["/state/position"][...] for p in sys.argv[1:3])
+diff = float(np.abs(a - b).max())
+print(f"largest position difference {sys.argv[3]} vs {sys.argv[4]} (rtol 1e-9), 24 steps: {diff:.3e} m")
+sys.exit(0 if diff < 1e-8 else f"FAIL: {diff:.3e} m >= 1e-8 m")
+PY
+}
+
+for pc in mg gamg; do
+  bound=$([ $pc = mg ] && echo 12 || echo 16)
+  run ${pc}_65 -grid 65 -pc_type $pc -checkpoint_every 12 -checkpoint_keep 0 -integrator_view
+  lagged=$(sed -n 's/^Preconditioner kept between solves.* \([0-9]*\) lagged$/\1/p' "$work/${pc}_65.log")
+  echo "$pc at 65 x 65: $(grep -o '[0-9]* rebuilt.*lagged' "$work/${pc}_65.log")"
+  [ -n "$lagged" ] && [ "$lagged" -gt 0 ] || fail "no lagged steps in the 65 x 65 $pc run (-implicit_pc_lag_ratio default 1.2): '$lagged'"
+  run ${pc}_129 -grid 129 -pc_type $pc
+  its65=$(its_per_step ${pc}_65) its129=$(its_per_step ${pc}_129)
+  [ -n "$its65" ] && [ -n "$its129" ] || fail "a $pc run took halved sub-steps (no 'Done: 24 steps (24 sub-steps)' line)"
+  echo "$pc Krylov iterations per step: $its65 at 65 x 65, $its129 at 129 x 129"
+  awk -v a="$its65" -v b="$its129" -v m="$bound" 'BEGIN { exit !(a <= m && b <= m && b <= 1.5 * a) }' ||
+    fail "$pc iterations per step $its65 (65) and $its129 (129): expected at most $bound each and the 129 count at most 1.5 x the 65 one"
+
+  run ${pc}_65_tight -grid 65 -pc_type $pc -ksp_rtol 1e-9
+  run ${pc}_65_restart -grid 65 -pc_type $pc -restart "$work/${pc}_65/checkpoint_000012.h5"
+  /usr/bin/python3 tests/checkers/compare_checkpoints.py "$work/${pc}_65/checkpoint_000024.h5" "$work/${pc}_65_restart/checkpoint_000024.h5" --tolerance 0 ||
+    fail "$pc: 12 steps + restart + 12 steps differ from 24 steps"
+done
+
+run default_65 -grid 65 -ksp_rtol 1e-9 -pc_type pbjacobi
+uses mg_129 mg
+same_answer mg_65_tight default_65
+same_answer gamg_65_tight default_65
+
+one_step() { # one_step NAME SCENE OPTIONS...
+  local name=$1 scene=$2
+  shift 2
+  "$mpiexec" -n 1 "$CLOTHSIM" -scene "$scene" -steps 1 -output_every 0 -output_dir "$work/$name" "$@" > "$work/$name.log" 2>&1 ||
+    { cat "$work/$name.log"; fail "run $name failed"; }
+}
+one_step default_65_mg input/hanging_sheet.yaml -grid 65
+uses default_65_mg mg
+one_step default_33 input/hanging_sheet.yaml -grid 33
+uses default_33 pbjacobi
+one_step seams tests/data/seam_two_pieces.yaml -implicit_pc_multilevel_min_particles 100
+uses seams gamg
+echo "defaults: pbjacobi at 33 x 33, mg at 65 x 65, gamg with seams from -implicit_pc_multilevel_min_particles on"
