@@ -368,23 +368,131 @@ static PetscReal InverseMass(ClothSelfContact sc, PetscInt natural)
 /* ------------------------------------------------------------------------------------------------ */
 /* Friction between layers                                                                          */
 
+/* Contact c's repulsion at the positions (x, xr) (contact-local): whether it acts (within the thickness), its normal n
+   (along r, into the side of a[0]) and its magnitude push = k (thickness - |r|). */
+static PetscErrorCode ContactPush(ClothSelfContact sc, PetscInt c, PetscScalar *x, PetscScalar *xr, PetscBool *acts, PetscReal n[3], PetscReal *push)
+{
+  const ClothContact *contact = &sc->contacts[c];
+  const PetscInt     *loc     = &sc->local[SELF_CONTACT_NP * c];
+  PetscReal           r[3] = {0, 0, 0}, e, frep[3], d;
+
+  PetscFunctionBeginUser;
+  for (PetscInt j = 0; j < SELF_CONTACT_NP; j++)
+    for (PetscInt q = 0; q < 3; q++) r[q] += contact->a[j] * PetscRealPart(At(sc, x, xr, loc[j])[q]);
+  d     = PetscSqrtReal(Dot3(r, r));
+  *acts = (d < sc->thickness && d > 0) ? PETSC_TRUE : PETSC_FALSE; /* no repulsion (or no direction): no normal force */
+  *push = 0;
+  if (!*acts) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(RepulsionEvaluate(sc, r, PETSC_TRUE, &e, frep, NULL));
+  for (PetscInt q = 0; q < 3; q++) n[q] = r[q] / d;
+  *push = PetscSqrtReal(Dot3(frep, frep));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Every owned particle's net repulsion (contact_push) and the sum of its contacts' repulsions sum_c |a_k| push_c
+   (load_ratio, component 0), over the contacts of all ranks. Collective. */
+static PetscErrorCode SumContactPushes(ClothSelfContact sc, PetscScalar *x, PetscScalar *xr)
+{
+  PetscScalar *R, *Rr, *S, *Sr;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecZeroEntries(sc->contact_push));
+  PetscCall(VecZeroEntries(sc->load_ratio));
+  PetscCall(VecZeroEntries(sc->fremote));
+  PetscCall(VecZeroEntries(sc->kvremote));
+  PetscCall(VecGetArray(sc->contact_push, &R));
+  PetscCall(VecGetArray(sc->fremote, &Rr));
+  PetscCall(VecGetArray(sc->load_ratio, &S));
+  PetscCall(VecGetArray(sc->kvremote, &Sr));
+  for (PetscInt c = 0; c < sc->ncontacts; c++) {
+    const ClothContact *contact = &sc->contacts[c];
+    const PetscInt     *loc     = &sc->local[SELF_CONTACT_NP * c];
+    PetscReal           n[3], push;
+    PetscBool           acts;
+
+    PetscCall(ContactPush(sc, c, x, xr, &acts, n, &push));
+    if (!acts) continue;
+    for (PetscInt j = 0; j < SELF_CONTACT_NP; j++) {
+      for (PetscInt q = 0; q < 3; q++) At(sc, R, Rr, loc[j])[q] += contact->a[j] * push * n[q];
+      At(sc, S, Sr, loc[j])[0] += PetscAbsReal(contact->a[j]) * push;
+    }
+  }
+  PetscCall(VecRestoreArray(sc->kvremote, &Sr));
+  PetscCall(VecRestoreArray(sc->load_ratio, &S));
+  PetscCall(VecRestoreArray(sc->fremote, &Rr));
+  PetscCall(VecRestoreArray(sc->contact_push, &R));
+  PetscCall(SelfContactSumRemoteInto(sc, sc->fremote, sc->contact_push));
+  PetscCall(SelfContactSumRemoteInto(sc, sc->kvremote, sc->load_ratio));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Every particle's ratio rho of the load it carries to the repulsion its contacts exert on it (load_ratio, component
+   0; the remote particles' in kvremote). The load is the friction.h normal force of its force without the repulsion,
+   F - R, along R (the net repulsion R = contact_push): the force that presses it onto the layers it touches. rho is
+   at most 1 + load / S (S = sum_c |a_k| push_c): a particle whose contacts cancel (between two layers) cannot press
+   them harder than their repulsion plus its load. A particle no contact pushes has rho 0. Collective. */
+static PetscErrorCode LoadRatios(ClothSelfContact sc, Vec force)
+{
+  const PetscScalar *f, *R;
+  PetscScalar       *rho;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecGetArrayRead(force, &f));
+  PetscCall(VecGetArrayRead(sc->contact_push, &R));
+  PetscCall(VecGetArray(sc->load_ratio, &rho));
+  for (PetscInt i = 0; i < sc->layout.nlocal; i++) {
+    const PetscReal Rn = PetscSqrtReal(Dot3(&R[3 * i], &R[3 * i])), S = PetscRealPart(rho[3 * i]);
+    PetscReal       n[3], rest[3], load;
+
+    rho[3 * i] = 0;
+    if (!(Rn > 0)) continue;
+    for (PetscInt q = 0; q < 3; q++) {
+      n[q]    = PetscRealPart(R[3 * i + q]) / Rn;
+      rest[q] = PetscRealPart(f[3 * i + q] - R[3 * i + q]);
+    }
+    PetscCall(ClothFrictionNormalLoad(rest, n, &load));
+    rho[3 * i] = PetscMin(load / Rn, 1 + load / S);
+  }
+  PetscCall(VecRestoreArray(sc->load_ratio, &rho));
+  PetscCall(VecRestoreArrayRead(sc->contact_push, &R));
+  PetscCall(VecRestoreArrayRead(force, &f));
+  PetscCall(SelfContactRefreshRemote(sc, sc->load_ratio, sc->kvremote));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The normal force of contact c for its friction: its repulsion scaled by the load ratio of the side that presses,
+   the larger of the two sides' sum_k |a_k| rho_k (a layer resting on one held by a body: the upper side's). */
+static PetscReal ContactNormalForce(ClothSelfContact sc, PetscInt c, const PetscScalar *rho, const PetscScalar *rhor, PetscReal push)
+{
+  const ClothContact *contact = &sc->contacts[c];
+  PetscReal           side[2] = {0, 0};
+
+  for (PetscInt j = 0; j < SELF_CONTACT_NP; j++) {
+    const PetscInt k = sc->local[SELF_CONTACT_NP * c + j];
+    side[contact->a[j] > 0 ? 0 : 1] += PetscAbsReal(contact->a[j]) * PetscRealPart(k < sc->layout.nlocal ? rho[3 * k] : rhor[3 * (k - sc->layout.nlocal)]);
+  }
+  return PetscMax(side[0], side[1]) * push;
+}
+
 /* The add_to_implicit_step of the self-contact contribution (cloth.h), -self_collision_friction: every contact within
    the thickness gets the regularised Coulomb friction of the body contacts (friction.h, one law for both) on the
-   tangential part of the relative velocity of its closest points, v_rel = sum_k a_k v_k, with the repulsion at the
-   step's start as its normal force (lagged, as for the bodies) and the cloth's friction scale. Particle k takes
-   a_k f, and h a_j a_k S_j D S_k enters the blocks the repulsion already couples: D is symmetric positive semidefinite,
-   so the system stays symmetric positive definite. Along the motion D is the drag mu N / s (drag_along), not the
-   derivative (about 0 while sliding): with the derivative, a particle that several contacts press at once (a fold, two
-   grids passing over each other) was carried by their summed friction through v_t = 0 into a reversal within one step
-   (a sheet sliding at 0.18 m/s thrown back at 0.38 m/s); the body contacts stop such reversals after the solve, which
-   a pair of moving layers cannot. The drag over-brakes a contact sliding with acceleration a at speed u by the
-   fraction a h / u (docs/self_collision.md). Collective. */
+   tangential part of the relative velocity of its closest points, v_rel = sum_k a_k v_k, with the cloth's friction
+   scale. Its normal force is the load its particles carry (ContactNormalForce, lagged at the step's start as for the
+   bodies), not its repulsion: sliding layers bounce by micrometres, and the repulsion at the step's start averaged
+   4 % above the weight it carries (docs/self_collision.md). Particle k takes a_k f, and h a_j a_k S_j D S_k enters the
+   blocks the repulsion already couples: D is symmetric positive semidefinite, so the system stays symmetric positive
+   definite. Along the motion D is the drag mu N / s (drag_along), not the derivative (about 0 while sliding): with the
+   derivative, a particle that several contacts press at once (a fold, two grids passing over each other) was carried
+   by their summed friction through v_t = 0 into a reversal within one step (a sheet sliding at 0.18 m/s thrown back
+   at 0.38 m/s); the body contacts stop such reversals after the solve, which a pair of moving layers cannot. The drag
+   over-brakes a contact sliding with acceleration a at speed u by the fraction a h / u. Collective. */
 static PetscErrorCode AddFrictionToImplicitStep(void *ctx, PetscReal h, Vec velocity, Vec force, Mat A)
 {
-  ClothSelfContact sc = (ClothSelfContact)ctx;
-  PetscScalar     *x, *xr, *v, *vr, *f, *fr;
-  BodyNormals      bn;
-  PetscReal        scale, mu;
+  ClothSelfContact   sc = (ClothSelfContact)ctx;
+  PetscScalar       *x, *xr, *v, *vr, *f, *fr;
+  const PetscScalar *rho, *rhor;
+  BodyNormals        bn;
+  PetscReal          scale, mu;
 
   PetscFunctionBeginUser;
   if (!sc->friction || sc->friction_coefficient == 0 || !sc->remote_scatter || !sc->any_candidates) PetscFunctionReturn(PETSC_SUCCESS);
@@ -392,12 +500,18 @@ static PetscErrorCode AddFrictionToImplicitStep(void *ctx, PetscReal h, Vec velo
   PetscCall(PetscLogEventBegin(ClothLog.self_forces, 0, 0, 0, 0));
   PetscCall(ClothGetFrictionScale(sc->cloth, &scale));
   mu = scale * sc->friction_coefficient;
+  if (!sc->contact_push) PetscCall(VecDuplicate(sc->position, &sc->contact_push));
+  if (!sc->load_ratio) PetscCall(VecDuplicate(sc->position, &sc->load_ratio));
   PetscCall(SelfContactRefreshRemote(sc, sc->position, sc->xremote));
+  PetscCall(VecGetArray(sc->position, &x));
+  PetscCall(VecGetArray(sc->xremote, &xr));
+  PetscCall(SumContactPushes(sc, x, xr));
+  PetscCall(LoadRatios(sc, force));
   PetscCall(SelfContactRefreshRemote(sc, velocity, sc->vremote));
   PetscCall(VecZeroEntries(sc->fremote));
   PetscCall(BodyNormalsGet(sc, &bn));
-  PetscCall(VecGetArray(sc->position, &x));
-  PetscCall(VecGetArray(sc->xremote, &xr));
+  PetscCall(VecGetArrayRead(sc->load_ratio, &rho));
+  PetscCall(VecGetArrayRead(sc->kvremote, &rhor));
   PetscCall(VecGetArray(velocity, &v));
   PetscCall(VecGetArray(sc->vremote, &vr));
   PetscCall(VecGetArray(force, &f));
@@ -405,21 +519,16 @@ static PetscErrorCode AddFrictionToImplicitStep(void *ctx, PetscReal h, Vec velo
   for (PetscInt c = 0; c < sc->ncontacts; c++) {
     const ClothContact *contact = &sc->contacts[c];
     const PetscInt     *loc     = &sc->local[SELF_CONTACT_NP * c];
-    PetscReal           r[3] = {0, 0, 0}, vrel[3] = {0, 0, 0}, n[3], vt[3], e, frep[3], ff[3], D[9], d, vn, normal_force;
+    PetscReal           vrel[3] = {0, 0, 0}, n[3], vt[3], ff[3], D[9], vn, push;
+    PetscBool           acts;
 
+    PetscCall(ContactPush(sc, c, x, xr, &acts, n, &push));
+    if (!acts) continue;
     for (PetscInt j = 0; j < SELF_CONTACT_NP; j++)
-      for (PetscInt q = 0; q < 3; q++) {
-        r[q] += contact->a[j] * PetscRealPart(At(sc, x, xr, loc[j])[q]);
-        vrel[q] += contact->a[j] * PetscRealPart(At(sc, v, vr, loc[j])[q]);
-      }
-    d = PetscSqrtReal(Dot3(r, r));
-    if (!(d < sc->thickness) || d <= 0) continue; /* no repulsion, no normal force */
-    PetscCall(RepulsionEvaluate(sc, r, PETSC_TRUE, &e, frep, NULL));
-    for (PetscInt q = 0; q < 3; q++) n[q] = r[q] / d;
+      for (PetscInt q = 0; q < 3; q++) vrel[q] += contact->a[j] * PetscRealPart(At(sc, v, vr, loc[j])[q]);
     vn = Dot3(vrel, n);
     for (PetscInt q = 0; q < 3; q++) vt[q] = vrel[q] - vn * n[q];
-    normal_force = PetscSqrtReal(Dot3(frep, frep));
-    PetscCall(ClothRegularisedFriction(mu, mu, normal_force, sc->friction_velocity, 0.0, PETSC_TRUE, n, vt, ff, D));
+    PetscCall(ClothRegularisedFriction(mu, mu, ContactNormalForce(sc, c, rho, rhor, push), sc->friction_velocity, 0.0, PETSC_TRUE, n, vt, ff, D));
     for (PetscInt j = 0; j < SELF_CONTACT_NP; j++)
       for (PetscInt q = 0; q < 3; q++) At(sc, f, fr, loc[j])[q] += contact->a[j] * ff[q];
     PetscCall(AddContactStiffness(sc, &bn, c, D, h, A));
@@ -428,6 +537,8 @@ static PetscErrorCode AddFrictionToImplicitStep(void *ctx, PetscReal h, Vec velo
   PetscCall(VecRestoreArray(force, &f));
   PetscCall(VecRestoreArray(sc->vremote, &vr));
   PetscCall(VecRestoreArray(velocity, &v));
+  PetscCall(VecRestoreArrayRead(sc->kvremote, &rhor));
+  PetscCall(VecRestoreArrayRead(sc->load_ratio, &rho));
   PetscCall(VecRestoreArray(sc->xremote, &xr));
   PetscCall(VecRestoreArray(sc->position, &x));
   PetscCall(BodyNormalsRestore(sc, &bn));
@@ -766,6 +877,8 @@ PetscErrorCode ClothSelfContactDestroy(ClothSelfContact *sc)
   PetscCall(VecDestroy(&s->fremote));
   PetscCall(VecDestroy(&s->kvremote));
   PetscCall(VecDestroy(&s->bremote));
+  PetscCall(VecDestroy(&s->contact_push));
+  PetscCall(VecDestroy(&s->load_ratio));
   PetscCall(VecScatterDestroy(&s->remote_scatter));
   PetscCall(PetscFree(*sc));
   PetscFunctionReturn(PETSC_SUCCESS);
