@@ -374,7 +374,7 @@ static PetscErrorCode ContactPush(ClothSelfContact sc, PetscInt c, PetscScalar *
 {
   const ClothContact *contact = &sc->contacts[c];
   const PetscInt     *loc     = &sc->local[SELF_CONTACT_NP * c];
-  PetscReal           r[3] = {0, 0, 0}, e, frep[3], d;
+  PetscReal           r[3]    = {0, 0, 0}, e, frep[3], d;
 
   PetscFunctionBeginUser;
   for (PetscInt j = 0; j < SELF_CONTACT_NP; j++)

@@ -28,8 +28,8 @@ struct _n_ClothSelfContact {
   PetscBool                 friction;             /* regularised Coulomb friction between layers in the implicit step */
   PetscReal                 friction_coefficient; /* mu */
   PetscReal                 friction_velocity;    /* eps_v of the regularised law, m/s */
-  Vec                       contact_push, load_ratio; /* friction: per particle the net repulsion; the sum of the repulsions
-                                                         (component 0), then the ratio of load to repulsion (component 0) */
+  Vec                       contact_push;         /* friction: each particle's net repulsion */
+  Vec                       load_ratio;           /* friction: its contacts' summed repulsion, then its load ratio (component 0) */
   PetscInt                  exclude_ring, impulse_iterations;
   PetscBool                 same_piece;
   ClothSelfContactExcludeFn exclude;
