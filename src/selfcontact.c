@@ -389,21 +389,67 @@ static PetscErrorCode ContactPush(ClothSelfContact sc, PetscInt c, PetscScalar *
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* Every owned particle's net repulsion (contact_push) and the sum of its contacts' repulsions sum_c |a_k| push_c
-   (load_ratio, component 0), over the contacts of all ranks. Collective. */
+/* A contact-local particle's 3-vector in an owned array or the remote one (read only). */
+static inline const PetscScalar *AtRead(ClothSelfContact sc, const PetscScalar *owned, const PetscScalar *remote, PetscInt k)
+{
+  return k < sc->layout.nlocal ? &owned[3 * k] : &remote[3 * (k - sc->layout.nlocal)];
+}
+
+/* Every owned particle's layer normal (support, not yet oriented): the sum of its triangles' normals (their
+   vertex order, the same in a whole piece; weighted by area) from the cloth's positions with its ghosts, unit; zero
+   where no triangle's vertices are all on this rank (support falls back to the net push, SupportDirections).
+   Collective. */
+static PetscErrorCode LayerNormals(ClothSelfContact sc)
+{
+  const ClothLayout *layout = &sc->layout;
+  const PetscScalar *x;
+  PetscScalar       *nu;
+
+  PetscFunctionBeginUser;
+  if (!sc->local_of_natural) {
+    PetscCall(PetscMalloc1(layout->nglobal, &sc->local_of_natural));
+    for (PetscInt g = 0; g < layout->nglobal; g++) sc->local_of_natural[g] = -1;
+    for (PetscInt l = 0; l < layout->nlocal + layout->nghost; l++) sc->local_of_natural[layout->natural_of_local[l]] = l;
+  }
+  PetscCall(ClothGetLocalPositionArray(sc->cloth, &x));
+  PetscCall(VecGetArray(sc->support, &nu));
+  for (PetscInt i = 0; i < layout->nlocal; i++) {
+    const PetscInt p      = layout->natural_of_local[i];
+    PetscReal      sum[3] = {0, 0, 0}, len;
+
+    for (PetscInt k = sc->tri_start[p]; k < sc->tri_start[p + 1]; k++) {
+      const PetscInt *t = &sc->tri[3 * sc->tri_of[k]];
+      const PetscInt  a = sc->local_of_natural[t[0]], b = sc->local_of_natural[t[1]], c = sc->local_of_natural[t[2]];
+      PetscReal       e1[3], e2[3];
+
+      if (a < 0 || b < 0 || c < 0) continue;
+      for (PetscInt q = 0; q < 3; q++) {
+        e1[q] = PetscRealPart(x[3 * b + q] - x[3 * a + q]);
+        e2[q] = PetscRealPart(x[3 * c + q] - x[3 * a + q]);
+      }
+      sum[0] += e1[1] * e2[2] - e1[2] * e2[1];
+      sum[1] += e1[2] * e2[0] - e1[0] * e2[2];
+      sum[2] += e1[0] * e2[1] - e1[1] * e2[0];
+    }
+    len = PetscSqrtReal(Dot3(sum, sum));
+    for (PetscInt q = 0; q < 3; q++) nu[3 * i + q] = len > 0 ? sum[q] / len : 0.0;
+  }
+  PetscCall(VecRestoreArray(sc->support, &nu));
+  PetscCall(ClothRestoreLocalPositionArray(sc->cloth, &x));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Every owned particle's net repulsion R = sum_c a_k push_c n_c (contact_push) over the contacts of all ranks.
+   Collective. */
 static PetscErrorCode SumContactPushes(ClothSelfContact sc, PetscScalar *x, PetscScalar *xr)
 {
-  PetscScalar *R, *Rr, *S, *Sr;
+  PetscScalar *R, *Rr;
 
   PetscFunctionBeginUser;
   PetscCall(VecZeroEntries(sc->contact_push));
-  PetscCall(VecZeroEntries(sc->load_ratio));
   PetscCall(VecZeroEntries(sc->fremote));
-  PetscCall(VecZeroEntries(sc->kvremote));
   PetscCall(VecGetArray(sc->contact_push, &R));
   PetscCall(VecGetArray(sc->fremote, &Rr));
-  PetscCall(VecGetArray(sc->load_ratio, &S));
-  PetscCall(VecGetArray(sc->kvremote, &Sr));
   for (PetscInt c = 0; c < sc->ncontacts; c++) {
     const ClothContact *contact = &sc->contacts[c];
     const PetscInt     *loc     = &sc->local[SELF_CONTACT_NP * c];
@@ -412,66 +458,163 @@ static PetscErrorCode SumContactPushes(ClothSelfContact sc, PetscScalar *x, Pets
 
     PetscCall(ContactPush(sc, c, x, xr, &acts, n, &push));
     if (!acts) continue;
-    for (PetscInt j = 0; j < SELF_CONTACT_NP; j++) {
+    for (PetscInt j = 0; j < SELF_CONTACT_NP; j++)
       for (PetscInt q = 0; q < 3; q++) At(sc, R, Rr, loc[j])[q] += contact->a[j] * push * n[q];
-      At(sc, S, Sr, loc[j])[0] += PetscAbsReal(contact->a[j]) * push;
-    }
   }
-  PetscCall(VecRestoreArray(sc->kvremote, &Sr));
-  PetscCall(VecRestoreArray(sc->load_ratio, &S));
   PetscCall(VecRestoreArray(sc->fremote, &Rr));
   PetscCall(VecRestoreArray(sc->contact_push, &R));
   PetscCall(SelfContactSumRemoteInto(sc, sc->fremote, sc->contact_push));
-  PetscCall(SelfContactSumRemoteInto(sc, sc->kvremote, sc->load_ratio));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* Every particle's ratio rho of the load it carries to the repulsion its contacts exert on it (load_ratio, component
-   0; the remote particles' in kvremote). The load is the friction.h normal force of its force without the repulsion,
-   F - R, along R (the net repulsion R = contact_push): the force that presses it onto the layers it touches. rho is
-   at most 1 + load / S (S = sum_c |a_k| push_c): a particle whose contacts cancel (between two layers) cannot press
-   them harder than their repulsion plus its load. A particle no contact pushes has rho 0. Collective. */
-static PetscErrorCode LoadRatios(ClothSelfContact sc, Vec force)
+/* Every particle's support direction nu (support; the remote particles' in kvremote): its layer normal (LayerNormals)
+   turned to the side its net push R and its load -(F - R) point to together, (2 R - F) . nu >= 0 (at rest both point
+   the same way; a middle layer's R alone flips while it bounces between the layers above and below), or R / |R|
+   without a layer normal. The contacts that push a particle along nu carry it; those that push it against nu press
+   it onto them (the layers above). Collective. */
+static PetscErrorCode SupportDirections(ClothSelfContact sc, Vec force)
 {
   const PetscScalar *f, *R;
-  PetscScalar       *rho;
+  PetscScalar       *nu;
 
   PetscFunctionBeginUser;
   PetscCall(VecGetArrayRead(force, &f));
   PetscCall(VecGetArrayRead(sc->contact_push, &R));
-  PetscCall(VecGetArray(sc->load_ratio, &rho));
+  PetscCall(VecGetArray(sc->support, &nu));
   for (PetscInt i = 0; i < sc->layout.nlocal; i++) {
-    const PetscReal Rn = PetscSqrtReal(Dot3(&R[3 * i], &R[3 * i])), S = PetscRealPart(rho[3 * i]);
-    PetscReal       n[3], rest[3], load;
+    const PetscReal Rn   = PetscSqrtReal(Dot3(&R[3 * i], &R[3 * i]));
+    PetscReal       side = 0;
 
-    rho[3 * i] = 0;
-    if (!(Rn > 0)) continue;
-    for (PetscInt q = 0; q < 3; q++) {
-      n[q]    = PetscRealPart(R[3 * i + q]) / Rn;
-      rest[q] = PetscRealPart(f[3 * i + q] - R[3 * i + q]);
-    }
-    PetscCall(ClothFrictionNormalLoad(rest, n, &load));
-    rho[3 * i] = PetscMin(load / Rn, 1 + load / S);
+    if (Dot3(&nu[3 * i], &nu[3 * i]) == 0)
+      for (PetscInt q = 0; q < 3; q++) nu[3 * i + q] = Rn > 0 ? R[3 * i + q] / Rn : 0.0;
+    for (PetscInt q = 0; q < 3; q++) side += PetscRealPart(R[3 * i + q] - f[3 * i + q]) * PetscRealPart(nu[3 * i + q]);
+    if (side == 0) side = Dot3(&R[3 * i], &nu[3 * i]);
+    if (side < 0)
+      for (PetscInt q = 0; q < 3; q++) nu[3 * i + q] = -nu[3 * i + q];
   }
-  PetscCall(VecRestoreArray(sc->load_ratio, &rho));
+  PetscCall(VecRestoreArray(sc->support, &nu));
   PetscCall(VecRestoreArrayRead(sc->contact_push, &R));
   PetscCall(VecRestoreArrayRead(force, &f));
-  PetscCall(SelfContactRefreshRemote(sc, sc->load_ratio, sc->kvremote));
+  PetscCall(SelfContactRefreshRemote(sc, sc->support, sc->kvremote));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* The normal force of contact c for its friction: its repulsion scaled by the load ratio of the side that presses,
-   the larger of the two sides' sum_k |a_k| rho_k (a layer resting on one held by a body: the upper side's). */
-static PetscReal ContactNormalForce(ClothSelfContact sc, PetscInt c, const PetscScalar *rho, const PetscScalar *rhor, PetscReal push)
+/* The normal force of contact c (normal n, repulsion push) for its friction: the load its particles carry on it,
+   push times the larger of its two sides' sum_k max(0, a_k n . w_k) (w: the load vectors of LoadVectors; a layer on
+   one that a body holds: the upper side's, the lower side's weight pulls it away from the upper layer). */
+static PetscReal ContactNormalForce(ClothSelfContact sc, PetscInt c, const PetscScalar *w, const PetscScalar *wr, const PetscReal n[3], PetscReal push)
 {
   const ClothContact *contact = &sc->contacts[c];
   PetscReal           side[2] = {0, 0};
 
-  for (PetscInt j = 0; j < SELF_CONTACT_NP; j++) {
-    const PetscInt k = sc->local[SELF_CONTACT_NP * c + j];
-    side[contact->a[j] > 0 ? 0 : 1] += PetscAbsReal(contact->a[j]) * PetscRealPart(k < sc->layout.nlocal ? rho[3 * k] : rhor[3 * (k - sc->layout.nlocal)]);
-  }
+  for (PetscInt j = 0; j < SELF_CONTACT_NP; j++) side[contact->a[j] > 0 ? 0 : 1] += PetscMax(0.0, contact->a[j] * Dot3(n, AtRead(sc, w, wr, sc->local[SELF_CONTACT_NP * c + j])));
   return PetscMax(side[0], side[1]) * push;
+}
+
+/* Every owned particle's contacts split by the direction of their push on it against its support direction nu (from
+   SupportDirections), in contact_sides: U (component 0), the pushes' parts along nu (the contacts that carry it), and
+   D (component 1), the parts against it (the layers above pressing it). Without load vectors (loaded false) U and D
+   from the repulsions; with them (contact_load, wremote) D again from the contacts' normal forces
+   (ContactNormalForce): the loads the layers above carry down. Collective. */
+static PetscErrorCode SumContactSides(ClothSelfContact sc, PetscScalar *x, PetscScalar *xr, PetscBool loaded)
+{
+  const PetscScalar *nu, *nur, *w = NULL, *wr = NULL;
+  PetscScalar       *UD, *UDr;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecZeroEntries(sc->fremote));
+  PetscCall(VecGetArray(sc->contact_sides, &UD));
+  for (PetscInt i = 0; i < sc->layout.nlocal; i++) {
+    if (!loaded) UD[3 * i] = 0;
+    UD[3 * i + 1] = 0;
+  }
+  PetscCall(VecGetArrayRead(sc->support, &nu));
+  PetscCall(VecGetArrayRead(sc->kvremote, &nur));
+  PetscCall(VecGetArray(sc->fremote, &UDr));
+  if (loaded) {
+    PetscCall(VecGetArrayRead(sc->contact_load, &w));
+    PetscCall(VecGetArrayRead(sc->wremote, &wr));
+  }
+  for (PetscInt c = 0; c < sc->ncontacts; c++) {
+    const ClothContact *contact = &sc->contacts[c];
+    const PetscInt     *loc     = &sc->local[SELF_CONTACT_NP * c];
+    PetscReal           n[3], push, normal_force;
+    PetscBool           acts;
+
+    PetscCall(ContactPush(sc, c, x, xr, &acts, n, &push));
+    if (!acts) continue;
+    normal_force = loaded ? ContactNormalForce(sc, c, w, wr, n, push) : push;
+    for (PetscInt j = 0; j < SELF_CONTACT_NP; j++) {
+      const PetscReal along = contact->a[j] * Dot3(n, AtRead(sc, nu, nur, loc[j]));
+
+      if (along > 0 && !loaded) At(sc, UD, UDr, loc[j])[0] += along * push;
+      if (along < 0) At(sc, UD, UDr, loc[j])[1] -= along * normal_force;
+    }
+  }
+  if (loaded) {
+    PetscCall(VecRestoreArrayRead(sc->wremote, &wr));
+    PetscCall(VecRestoreArrayRead(sc->contact_load, &w));
+  }
+  PetscCall(VecRestoreArray(sc->fremote, &UDr));
+  PetscCall(VecRestoreArrayRead(sc->kvremote, &nur));
+  PetscCall(VecRestoreArrayRead(sc->support, &nu));
+  PetscCall(VecRestoreArray(sc->contact_sides, &UD));
+  PetscCall(SelfContactSumRemoteInto(sc, sc->fremote, sc->contact_sides));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Every particle's load vector w = (load / U) nu (contact_load; the remote particles' in wremote): the friction.h
+   normal force, along its support direction nu, of its force without the pushes of the contacts that carry it
+   (F - R - D nu: its internal force, gravity and damping, and the layers above pressing it), per unit of their push
+   U. Contact c then carries max(0, a_k n_c . w_k) push_c of particle k's load (ContactNormalForce), and a particle's
+   carrying contacts together its whole load. Collective. */
+static PetscErrorCode LoadVectors(ClothSelfContact sc, Vec force)
+{
+  const PetscScalar *f, *R, *UD, *nu;
+  PetscScalar       *w;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecGetArrayRead(force, &f));
+  PetscCall(VecGetArrayRead(sc->contact_push, &R));
+  PetscCall(VecGetArrayRead(sc->contact_sides, &UD));
+  PetscCall(VecGetArrayRead(sc->support, &nu));
+  PetscCall(VecGetArray(sc->contact_load, &w));
+  for (PetscInt i = 0; i < sc->layout.nlocal; i++) {
+    const PetscReal U = PetscRealPart(UD[3 * i]), D = PetscRealPart(UD[3 * i + 1]);
+    PetscReal       n[3], rest[3], load = 0;
+
+    for (PetscInt q = 0; q < 3; q++) {
+      n[q]    = PetscRealPart(nu[3 * i + q]);
+      rest[q] = PetscRealPart(f[3 * i + q] - R[3 * i + q]) - D * n[q];
+    }
+    if (U > 0) PetscCall(ClothFrictionNormalLoad(rest, n, &load));
+    for (PetscInt q = 0; q < 3; q++) w[3 * i + q] = load > 0 ? load / U * n[q] : 0.0;
+  }
+  PetscCall(VecRestoreArray(sc->contact_load, &w));
+  PetscCall(VecRestoreArrayRead(sc->support, &nu));
+  PetscCall(VecRestoreArrayRead(sc->contact_sides, &UD));
+  PetscCall(VecRestoreArrayRead(sc->contact_push, &R));
+  PetscCall(VecRestoreArrayRead(force, &f));
+  PetscCall(SelfContactRefreshRemote(sc, sc->contact_load, sc->wremote));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The load vectors (contact_load, wremote) of the contacts at (x, xr) under the forces force, the layer normals
+   (LayerNormals) computed: from the repulsions, then load_sweeps times with the loads of the layers above in place of
+   their repulsions (a stack of n layers on a particle needs n - 1 sweeps to carry the top layer's load down to it).
+   Collective. */
+static PetscErrorCode ContactLoads(ClothSelfContact sc, PetscScalar *x, PetscScalar *xr, Vec force)
+{
+  PetscFunctionBeginUser;
+  PetscCall(SumContactPushes(sc, x, xr));
+  PetscCall(SupportDirections(sc, force));
+  PetscCall(SumContactSides(sc, x, xr, PETSC_FALSE));
+  PetscCall(LoadVectors(sc, force));
+  for (PetscInt s = 0; s < sc->friction_load_sweeps; s++) {
+    PetscCall(SumContactSides(sc, x, xr, PETSC_TRUE));
+    PetscCall(LoadVectors(sc, force));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 /* The add_to_implicit_step of the self-contact contribution (cloth.h), -self_collision_friction: every contact within
@@ -490,7 +633,7 @@ static PetscErrorCode AddFrictionToImplicitStep(void *ctx, PetscReal h, Vec velo
 {
   ClothSelfContact   sc = (ClothSelfContact)ctx;
   PetscScalar       *x, *xr, *v, *vr, *f, *fr;
-  const PetscScalar *rho, *rhor;
+  const PetscScalar *w, *wr;
   BodyNormals        bn;
   PetscReal          scale, mu;
 
@@ -500,18 +643,22 @@ static PetscErrorCode AddFrictionToImplicitStep(void *ctx, PetscReal h, Vec velo
   PetscCall(PetscLogEventBegin(ClothLog.self_forces, 0, 0, 0, 0));
   PetscCall(ClothGetFrictionScale(sc->cloth, &scale));
   mu = scale * sc->friction_coefficient;
-  if (!sc->contact_push) PetscCall(VecDuplicate(sc->position, &sc->contact_push));
-  if (!sc->load_ratio) PetscCall(VecDuplicate(sc->position, &sc->load_ratio));
+  if (!sc->contact_push) {
+    PetscCall(VecDuplicate(sc->position, &sc->contact_push));
+    PetscCall(VecDuplicate(sc->position, &sc->contact_sides));
+    PetscCall(VecDuplicate(sc->position, &sc->contact_load));
+    PetscCall(VecDuplicate(sc->position, &sc->support));
+  }
+  PetscCall(LayerNormals(sc)); /* before the positions are taken below: it reads them with their ghosts */
   PetscCall(SelfContactRefreshRemote(sc, sc->position, sc->xremote));
   PetscCall(VecGetArray(sc->position, &x));
   PetscCall(VecGetArray(sc->xremote, &xr));
-  PetscCall(SumContactPushes(sc, x, xr));
-  PetscCall(LoadRatios(sc, force));
+  PetscCall(ContactLoads(sc, x, xr, force));
   PetscCall(SelfContactRefreshRemote(sc, velocity, sc->vremote));
   PetscCall(VecZeroEntries(sc->fremote));
   PetscCall(BodyNormalsGet(sc, &bn));
-  PetscCall(VecGetArrayRead(sc->load_ratio, &rho));
-  PetscCall(VecGetArrayRead(sc->kvremote, &rhor));
+  PetscCall(VecGetArrayRead(sc->contact_load, &w));
+  PetscCall(VecGetArrayRead(sc->wremote, &wr));
   PetscCall(VecGetArray(velocity, &v));
   PetscCall(VecGetArray(sc->vremote, &vr));
   PetscCall(VecGetArray(force, &f));
@@ -528,7 +675,7 @@ static PetscErrorCode AddFrictionToImplicitStep(void *ctx, PetscReal h, Vec velo
       for (PetscInt q = 0; q < 3; q++) vrel[q] += contact->a[j] * PetscRealPart(At(sc, v, vr, loc[j])[q]);
     vn = Dot3(vrel, n);
     for (PetscInt q = 0; q < 3; q++) vt[q] = vrel[q] - vn * n[q];
-    PetscCall(ClothRegularisedFriction(mu, mu, ContactNormalForce(sc, c, rho, rhor, push), sc->friction_velocity, 0.0, PETSC_TRUE, n, vt, ff, D));
+    PetscCall(ClothRegularisedFriction(mu, mu, ContactNormalForce(sc, c, w, wr, n, push), sc->friction_velocity, 0.0, PETSC_TRUE, n, vt, ff, D));
     for (PetscInt j = 0; j < SELF_CONTACT_NP; j++)
       for (PetscInt q = 0; q < 3; q++) At(sc, f, fr, loc[j])[q] += contact->a[j] * ff[q];
     PetscCall(AddContactStiffness(sc, &bn, c, D, h, A));
@@ -537,8 +684,8 @@ static PetscErrorCode AddFrictionToImplicitStep(void *ctx, PetscReal h, Vec velo
   PetscCall(VecRestoreArray(force, &f));
   PetscCall(VecRestoreArray(sc->vremote, &vr));
   PetscCall(VecRestoreArray(velocity, &v));
-  PetscCall(VecRestoreArrayRead(sc->kvremote, &rhor));
-  PetscCall(VecRestoreArrayRead(sc->load_ratio, &rho));
+  PetscCall(VecRestoreArrayRead(sc->wremote, &wr));
+  PetscCall(VecRestoreArrayRead(sc->contact_load, &w));
   PetscCall(VecRestoreArray(sc->xremote, &xr));
   PetscCall(VecRestoreArray(sc->position, &x));
   PetscCall(BodyNormalsRestore(sc, &bn));
@@ -662,6 +809,7 @@ PetscErrorCode ClothSelfContactCreate(Cloth cloth, ClothSelfContact *sc)
   s->friction             = PETSC_FALSE;
   s->friction_coefficient = 0.3;
   s->friction_velocity    = 1e-4;
+  s->friction_load_sweeps = 2;
   PetscCallMPI(MPI_Comm_size(s->comm, &s->size));
   PetscCallMPI(MPI_Comm_rank(s->comm, &s->rank));
   *sc = s;
@@ -682,6 +830,8 @@ PetscErrorCode ClothSelfContactSetFromOptions(ClothSelfContact sc)
   PetscCall(PetscOptionsBool("-self_collision_friction", "Regularised Coulomb friction between layers in contact, in the implicit step", "ClothSelfContactGetContribution", sc->friction, &sc->friction, NULL));
   PetscCall(PetscOptionsReal("-self_collision_friction_coefficient", "Friction coefficient mu between layers", "ClothSelfContactGetContribution", sc->friction_coefficient, &sc->friction_coefficient, NULL));
   PetscCall(PetscOptionsReal("-self_collision_friction_velocity", "Friction between layers: regularisation velocity eps_v, m/s", "ClothSelfContactGetContribution", sc->friction_velocity, &sc->friction_velocity, NULL));
+  PetscCall(PetscOptionsInt("-self_collision_friction_load_sweeps", "Friction between layers: sweeps carrying the loads of stacked layers down (n layers above a contact need n - 1)", "ClothSelfContactGetContribution", sc->friction_load_sweeps,
+                            &sc->friction_load_sweeps, NULL));
   PetscCall(PetscOptionsBool("-self_collision_view", "Print the self-collision settings and statistics at the end", "ClothSelfContactView", sc->view, &sc->view, NULL));
   PetscOptionsEnd();
   if (sc->enabled) {
@@ -699,6 +849,7 @@ PetscErrorCode ClothSelfContactSetFromOptions(ClothSelfContact sc)
     PetscCall(ClothOptionsCheckReal(sc->comm, "-self_collision_skin", sc->skin, 0, PETSC_FALSE, 100, NULL));
     PetscCall(ClothOptionsCheckReal(sc->comm, "-self_collision_friction_coefficient", sc->friction_coefficient, 0, PETSC_FALSE, 100, NULL));
     PetscCall(ClothOptionsCheckReal(sc->comm, "-self_collision_friction_velocity", sc->friction_velocity, 0, PETSC_TRUE, PETSC_MAX_REAL, "m/s"));
+    PetscCall(ClothOptionsCheckInt(sc->comm, "-self_collision_friction_load_sweeps", sc->friction_load_sweeps, 0, 100));
     PetscCheck(sc->impulse_iterations >= 1, sc->comm, PETSC_ERR_USER_INPUT, "-self_collision_impulse_iterations must be at least 1, got %" PetscInt_FMT, sc->impulse_iterations);
   }
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -840,7 +991,7 @@ PetscErrorCode ClothSelfContactView(ClothSelfContact sc, PetscViewer viewer)
                                    sc->searches ? (double)sum[0] / (double)sc->searches : 0.0, (PetscInt)sum[1], sc->rebuilds, (PetscInt)sum[2]));
   PetscCall(PetscViewerASCIIPrintf(viewer, "  candidate list (skin %g x thickness): %" PetscInt_FMT " builds, %.1f candidates per build\n", (double)sc->skin, sc->builds, sc->builds ? (double)sum[3] / (double)sc->builds : 0.0));
   if (sc->friction)
-    PetscCall(PetscViewerASCIIPrintf(viewer, "  friction between layers: regularised Coulomb, mu %g, eps_v %g m/s\n", (double)sc->friction_coefficient, (double)sc->friction_velocity));
+    PetscCall(PetscViewerASCIIPrintf(viewer, "  friction between layers: regularised Coulomb, mu %g, eps_v %g m/s, %" PetscInt_FMT " load sweeps\n", (double)sc->friction_coefficient, (double)sc->friction_velocity, sc->friction_load_sweeps));
   else
     PetscCall(PetscViewerASCIIPrintf(viewer, "  friction between layers: off\n"));
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -878,7 +1029,11 @@ PetscErrorCode ClothSelfContactDestroy(ClothSelfContact *sc)
   PetscCall(VecDestroy(&s->kvremote));
   PetscCall(VecDestroy(&s->bremote));
   PetscCall(VecDestroy(&s->contact_push));
-  PetscCall(VecDestroy(&s->load_ratio));
+  PetscCall(VecDestroy(&s->contact_sides));
+  PetscCall(VecDestroy(&s->contact_load));
+  PetscCall(VecDestroy(&s->support));
+  PetscCall(PetscFree(s->local_of_natural));
+  PetscCall(VecDestroy(&s->wremote));
   PetscCall(VecScatterDestroy(&s->remote_scatter));
   PetscCall(PetscFree(*sc));
   PetscFunctionReturn(PETSC_SUCCESS);
