@@ -395,55 +395,13 @@ static inline const PetscScalar *AtRead(ClothSelfContact sc, const PetscScalar *
   return k < sc->layout.nlocal ? &owned[3 * k] : &remote[3 * (k - sc->layout.nlocal)];
 }
 
-/* Every owned particle's layer normal (support, not yet oriented): the sum of its triangles' normals (their
-   vertex order, the same in a whole piece; weighted by area) from the cloth's positions with its ghosts, unit; zero
-   where no triangle's vertices are all on this rank (support falls back to the net push, SupportDirections).
-   Collective. */
-static PetscErrorCode LayerNormals(ClothSelfContact sc)
+/* Every owned particle's net repulsion R = sum_c a_k push_c n_c (contact_push) over the contacts of all ranks, and its
+   direction nu = R / |R| (support, 0 without contacts; the remote particles' in kvremote): the axis along which
+   LoadVectors splits its contacts into the two sides of its layer. Collective. */
+static PetscErrorCode SupportDirections(ClothSelfContact sc, PetscScalar *x, PetscScalar *xr)
 {
-  const ClothLayout *layout = &sc->layout;
-  const PetscScalar *x;
-  PetscScalar       *nu;
-
-  PetscFunctionBeginUser;
-  if (!sc->local_of_natural) {
-    PetscCall(PetscMalloc1(layout->nglobal, &sc->local_of_natural));
-    for (PetscInt g = 0; g < layout->nglobal; g++) sc->local_of_natural[g] = -1;
-    for (PetscInt l = 0; l < layout->nlocal + layout->nghost; l++) sc->local_of_natural[layout->natural_of_local[l]] = l;
-  }
-  PetscCall(ClothGetLocalPositionArray(sc->cloth, &x));
-  PetscCall(VecGetArray(sc->support, &nu));
-  for (PetscInt i = 0; i < layout->nlocal; i++) {
-    const PetscInt p      = layout->natural_of_local[i];
-    PetscReal      sum[3] = {0, 0, 0}, len;
-
-    for (PetscInt k = sc->tri_start[p]; k < sc->tri_start[p + 1]; k++) {
-      const PetscInt *t = &sc->tri[3 * sc->tri_of[k]];
-      const PetscInt  a = sc->local_of_natural[t[0]], b = sc->local_of_natural[t[1]], c = sc->local_of_natural[t[2]];
-      PetscReal       e1[3], e2[3];
-
-      if (a < 0 || b < 0 || c < 0) continue;
-      for (PetscInt q = 0; q < 3; q++) {
-        e1[q] = PetscRealPart(x[3 * b + q] - x[3 * a + q]);
-        e2[q] = PetscRealPart(x[3 * c + q] - x[3 * a + q]);
-      }
-      sum[0] += e1[1] * e2[2] - e1[2] * e2[1];
-      sum[1] += e1[2] * e2[0] - e1[0] * e2[2];
-      sum[2] += e1[0] * e2[1] - e1[1] * e2[0];
-    }
-    len = PetscSqrtReal(Dot3(sum, sum));
-    for (PetscInt q = 0; q < 3; q++) nu[3 * i + q] = len > 0 ? sum[q] / len : 0.0;
-  }
-  PetscCall(VecRestoreArray(sc->support, &nu));
-  PetscCall(ClothRestoreLocalPositionArray(sc->cloth, &x));
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-/* Every owned particle's net repulsion R = sum_c a_k push_c n_c (contact_push) over the contacts of all ranks.
-   Collective. */
-static PetscErrorCode SumContactPushes(ClothSelfContact sc, PetscScalar *x, PetscScalar *xr)
-{
-  PetscScalar *R, *Rr;
+  PetscScalar       *R, *Rr, *nu;
+  const PetscScalar *Rc;
 
   PetscFunctionBeginUser;
   PetscCall(VecZeroEntries(sc->contact_push));
@@ -464,163 +422,152 @@ static PetscErrorCode SumContactPushes(ClothSelfContact sc, PetscScalar *x, Pets
   PetscCall(VecRestoreArray(sc->fremote, &Rr));
   PetscCall(VecRestoreArray(sc->contact_push, &R));
   PetscCall(SelfContactSumRemoteInto(sc, sc->fremote, sc->contact_push));
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-/* Every particle's support direction nu (support; the remote particles' in kvremote): its layer normal (LayerNormals)
-   turned to the side its net push R and its load -(F - R) point to together, (2 R - F) . nu >= 0 (at rest both point
-   the same way; a middle layer's R alone flips while it bounces between the layers above and below), or R / |R|
-   without a layer normal. The contacts that push a particle along nu carry it; those that push it against nu press
-   it onto them (the layers above). Collective. */
-static PetscErrorCode SupportDirections(ClothSelfContact sc, Vec force)
-{
-  const PetscScalar *f, *R;
-  PetscScalar       *nu;
-
-  PetscFunctionBeginUser;
-  PetscCall(VecGetArrayRead(force, &f));
-  PetscCall(VecGetArrayRead(sc->contact_push, &R));
+  PetscCall(VecGetArrayRead(sc->contact_push, &Rc));
   PetscCall(VecGetArray(sc->support, &nu));
   for (PetscInt i = 0; i < sc->layout.nlocal; i++) {
-    const PetscReal Rn   = PetscSqrtReal(Dot3(&R[3 * i], &R[3 * i]));
-    PetscReal       side = 0;
+    const PetscReal Rn = PetscSqrtReal(Dot3(&Rc[3 * i], &Rc[3 * i]));
 
-    if (Dot3(&nu[3 * i], &nu[3 * i]) == 0)
-      for (PetscInt q = 0; q < 3; q++) nu[3 * i + q] = Rn > 0 ? R[3 * i + q] / Rn : 0.0;
-    for (PetscInt q = 0; q < 3; q++) side += PetscRealPart(R[3 * i + q] - f[3 * i + q]) * PetscRealPart(nu[3 * i + q]);
-    if (side == 0) side = Dot3(&R[3 * i], &nu[3 * i]);
-    if (side < 0)
-      for (PetscInt q = 0; q < 3; q++) nu[3 * i + q] = -nu[3 * i + q];
+    for (PetscInt q = 0; q < 3; q++) nu[3 * i + q] = Rn > 0 ? Rc[3 * i + q] / Rn : 0.0;
   }
   PetscCall(VecRestoreArray(sc->support, &nu));
-  PetscCall(VecRestoreArrayRead(sc->contact_push, &R));
-  PetscCall(VecRestoreArrayRead(force, &f));
+  PetscCall(VecRestoreArrayRead(sc->contact_push, &Rc));
   PetscCall(SelfContactRefreshRemote(sc, sc->support, sc->kvremote));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* The normal force of contact c (normal n, repulsion push) for its friction: the load its particles carry on it,
-   push times the larger of its two sides' sum_k max(0, a_k n . w_k) (w: the load vectors of LoadVectors; a layer on
-   one that a body holds: the upper side's, the lower side's weight pulls it away from the upper layer). */
-static PetscReal ContactNormalForce(ClothSelfContact sc, PetscInt c, const PetscScalar *w, const PetscScalar *wr, const PetscReal n[3], PetscReal push)
-{
-  const ClothContact *contact = &sc->contacts[c];
-  PetscReal           side[2] = {0, 0};
+/* Loaded views of the contacts: the particles' axes nu and load vectors w (LoadVectors: w[0] per unit push of the
+   contacts that push the particle along +nu, w[1] along -nu), owned and remote. */
+typedef struct {
+  const PetscScalar *nu, *nur, *w, *wr;
+} ContactLoadView;
 
-  for (PetscInt j = 0; j < SELF_CONTACT_NP; j++) side[contact->a[j] > 0 ? 0 : 1] += PetscMax(0.0, contact->a[j] * Dot3(n, AtRead(sc, w, wr, sc->local[SELF_CONTACT_NP * c + j])));
-  return PetscMax(side[0], side[1]) * push;
+/* Particle k's (contact-local loc, weight a) share of a contact with normal n, per unit of its push: the load it
+   carries on the contact, max(0, a n . nu) w[0] + max(0, -a n . nu) w[1] (continuous as the contact turns). */
+static PetscReal ParticleShare(ClothSelfContact sc, const ContactLoadView *view, PetscInt loc, PetscReal a, const PetscReal n[3])
+{
+  const PetscReal along = a * Dot3(n, AtRead(sc, view->nu, view->nur, loc));
+  const PetscReal w0 = PetscRealPart(AtRead(sc, view->w, view->wr, loc)[0]), w1 = PetscRealPart(AtRead(sc, view->w, view->wr, loc)[1]);
+
+  return PetscMax(0.0, along) * w0 + PetscMax(0.0, -along) * w1;
 }
 
-/* Every owned particle's contacts split by the direction of their push on it against its support direction nu (from
-   SupportDirections), in contact_sides: U (component 0), the pushes' parts along nu (the contacts that carry it), and
-   D (component 1), the parts against it (the layers above pressing it). Without load vectors (loaded false) U and D
-   from the repulsions; with them (contact_load, wremote) D again from the contacts' normal forces
-   (ContactNormalForce): the loads the layers above carry down. Collective. */
-static PetscErrorCode SumContactSides(ClothSelfContact sc, PetscScalar *x, PetscScalar *xr, PetscBool loaded)
+/* The two sides' estimates of contact c's normal force (side 0: a > 0, side 1: a < 0): push times the sum of their
+   particles' shares. */
+static void ContactSideLoads(ClothSelfContact sc, const ContactLoadView *view, PetscInt c, const PetscReal n[3], PetscReal push, PetscReal side[2])
 {
-  const PetscScalar *nu, *nur, *w = NULL, *wr = NULL;
-  PetscScalar       *UD, *UDr;
+  const ClothContact *contact = &sc->contacts[c];
+
+  side[0] = side[1] = 0;
+  for (PetscInt j = 0; j < SELF_CONTACT_NP; j++) side[contact->a[j] > 0 ? 0 : 1] += push * ParticleShare(sc, view, sc->local[SELF_CONTACT_NP * c + j], contact->a[j], n);
+}
+
+/* Every owned particle's contacts split by their push on it along +nu and -nu (components 0, 1 of out): with
+   view NULL the pushes themselves (pushes: U+, U-; or, as the first guess of the loads pressing it, D+, D-), else
+   the loads of the contacts' other sides (ContactSideLoads): what the layers on either side press it with. Collective. */
+static PetscErrorCode SumContactSides(ClothSelfContact sc, PetscScalar *x, PetscScalar *xr, const PetscScalar *nu, const PetscScalar *nur, const ContactLoadView *view, Vec out)
+{
+  PetscScalar *o, * or ;
 
   PetscFunctionBeginUser;
+  PetscCall(VecZeroEntries(out));
   PetscCall(VecZeroEntries(sc->fremote));
-  PetscCall(VecGetArray(sc->contact_sides, &UD));
-  for (PetscInt i = 0; i < sc->layout.nlocal; i++) {
-    if (!loaded) UD[3 * i] = 0;
-    UD[3 * i + 1] = 0;
-  }
-  PetscCall(VecGetArrayRead(sc->support, &nu));
-  PetscCall(VecGetArrayRead(sc->kvremote, &nur));
-  PetscCall(VecGetArray(sc->fremote, &UDr));
-  if (loaded) {
-    PetscCall(VecGetArrayRead(sc->contact_load, &w));
-    PetscCall(VecGetArrayRead(sc->wremote, &wr));
-  }
+  PetscCall(VecGetArray(out, &o));
+  PetscCall(VecGetArray(sc->fremote, & or));
   for (PetscInt c = 0; c < sc->ncontacts; c++) {
     const ClothContact *contact = &sc->contacts[c];
     const PetscInt     *loc     = &sc->local[SELF_CONTACT_NP * c];
-    PetscReal           n[3], push, normal_force;
+    PetscReal           n[3], push, side[2] = {0, 0};
     PetscBool           acts;
 
     PetscCall(ContactPush(sc, c, x, xr, &acts, n, &push));
     if (!acts) continue;
-    normal_force = loaded ? ContactNormalForce(sc, c, w, wr, n, push) : push;
+    if (view) ContactSideLoads(sc, view, c, n, push, side);
     for (PetscInt j = 0; j < SELF_CONTACT_NP; j++) {
       const PetscReal along = contact->a[j] * Dot3(n, AtRead(sc, nu, nur, loc[j]));
+      const PetscReal value = view ? side[contact->a[j] > 0 ? 1 : 0] : push; /* the other side's load */
 
-      if (along > 0 && !loaded) At(sc, UD, UDr, loc[j])[0] += along * push;
-      if (along < 0) At(sc, UD, UDr, loc[j])[1] -= along * normal_force;
+      At(sc, o, or, loc[j])[0] += PetscMax(0.0, along) * value;
+      At(sc, o, or, loc[j])[1] += PetscMax(0.0, -along) * value;
     }
   }
-  if (loaded) {
-    PetscCall(VecRestoreArrayRead(sc->wremote, &wr));
-    PetscCall(VecRestoreArrayRead(sc->contact_load, &w));
-  }
-  PetscCall(VecRestoreArray(sc->fremote, &UDr));
-  PetscCall(VecRestoreArrayRead(sc->kvremote, &nur));
-  PetscCall(VecRestoreArrayRead(sc->support, &nu));
-  PetscCall(VecRestoreArray(sc->contact_sides, &UD));
-  PetscCall(SelfContactSumRemoteInto(sc, sc->fremote, sc->contact_sides));
+  PetscCall(VecRestoreArray(sc->fremote, & or));
+  PetscCall(VecRestoreArray(out, &o));
+  PetscCall(SelfContactSumRemoteInto(sc, sc->fremote, out));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* Every particle's load vector w = (load / U) nu (contact_load; the remote particles' in wremote): the friction.h
-   normal force, along its support direction nu, of its force without the pushes of the contacts that carry it
-   (F - R - D nu: its internal force, gravity and damping, and the layers above pressing it), per unit of their push
-   U. Contact c then carries max(0, a_k n_c . w_k) push_c of particle k's load (ContactNormalForce), and a particle's
-   carrying contacts together its whole load. Collective. */
+/* Every particle's load vector (contact_load; the remote particles' in wremote): the friction.h normal force it
+   presses the contacts that push it along +nu with, max(0, -(F - R) . nu + D-) (its force without the repulsion:
+   internal, gravity, damping; D-: the layers on its other side pressing it), per unit of their push U+, in
+   component 0, and the same towards -nu in component 1. Collective. */
 static PetscErrorCode LoadVectors(ClothSelfContact sc, Vec force)
 {
-  const PetscScalar *f, *R, *UD, *nu;
+  const PetscScalar *f, *R, *U, *P, *nu;
   PetscScalar       *w;
 
   PetscFunctionBeginUser;
   PetscCall(VecGetArrayRead(force, &f));
   PetscCall(VecGetArrayRead(sc->contact_push, &R));
-  PetscCall(VecGetArrayRead(sc->contact_sides, &UD));
+  PetscCall(VecGetArrayRead(sc->contact_sides, &U));
+  PetscCall(VecGetArrayRead(sc->contact_press, &P));
   PetscCall(VecGetArrayRead(sc->support, &nu));
   PetscCall(VecGetArray(sc->contact_load, &w));
   for (PetscInt i = 0; i < sc->layout.nlocal; i++) {
-    const PetscReal U = PetscRealPart(UD[3 * i]), D = PetscRealPart(UD[3 * i + 1]);
-    PetscReal       n[3], rest[3], load = 0;
+    PetscReal up[3], down[3], to_down[3], to_up[3], load[2];
 
     for (PetscInt q = 0; q < 3; q++) {
-      n[q]    = PetscRealPart(nu[3 * i + q]);
-      rest[q] = PetscRealPart(f[3 * i + q] - R[3 * i + q]) - D * n[q];
+      up[q]      = PetscRealPart(nu[3 * i + q]);
+      down[q]    = -up[q];
+      to_down[q] = PetscRealPart(f[3 * i + q] - R[3 * i + q]) - PetscRealPart(P[3 * i + 1]) * up[q]; /* what presses it towards -nu */
+      to_up[q]   = PetscRealPart(f[3 * i + q] - R[3 * i + q]) + PetscRealPart(P[3 * i + 0]) * up[q]; /* towards +nu */
     }
-    if (U > 0) PetscCall(ClothFrictionNormalLoad(rest, n, &load));
-    for (PetscInt q = 0; q < 3; q++) w[3 * i + q] = load > 0 ? load / U * n[q] : 0.0;
+    PetscCall(ClothFrictionNormalLoad(to_down, up, &load[0]));
+    PetscCall(ClothFrictionNormalLoad(to_up, down, &load[1]));
+    for (PetscInt s = 0; s < 2; s++) w[3 * i + s] = PetscRealPart(U[3 * i + s]) > 0 ? load[s] / PetscRealPart(U[3 * i + s]) : 0.0;
+    w[3 * i + 2] = 0;
   }
   PetscCall(VecRestoreArray(sc->contact_load, &w));
   PetscCall(VecRestoreArrayRead(sc->support, &nu));
-  PetscCall(VecRestoreArrayRead(sc->contact_sides, &UD));
+  PetscCall(VecRestoreArrayRead(sc->contact_press, &P));
+  PetscCall(VecRestoreArrayRead(sc->contact_sides, &U));
   PetscCall(VecRestoreArrayRead(sc->contact_push, &R));
   PetscCall(VecRestoreArrayRead(force, &f));
   PetscCall(SelfContactRefreshRemote(sc, sc->contact_load, sc->wremote));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* The load vectors (contact_load, wremote) of the contacts at (x, xr) under the forces force, the layer normals
-   (LayerNormals) computed: from the repulsions, then load_sweeps times with the loads of the layers above in place of
-   their repulsions (a stack of n layers on a particle needs n - 1 sweeps to carry the top layer's load down to it).
-   Collective. */
+/* The load vectors (contact_load, wremote; support and kvremote the axes nu) of the contacts at (x, xr) under the
+   forces force: with the layers' repulsions as the first guess of what they press each other with, then load_sweeps
+   times with the loads their other sides carry (a stack of n layers needs n - 2 sweeps to carry the top layer's load
+   down to the lowest contact). Collective. */
 static PetscErrorCode ContactLoads(ClothSelfContact sc, PetscScalar *x, PetscScalar *xr, Vec force)
 {
+  ContactLoadView view;
+
   PetscFunctionBeginUser;
-  PetscCall(SumContactPushes(sc, x, xr));
-  PetscCall(SupportDirections(sc, force));
-  PetscCall(SumContactSides(sc, x, xr, PETSC_FALSE));
+  PetscCall(SupportDirections(sc, x, xr));
+  PetscCall(VecGetArrayRead(sc->support, &view.nu));
+  PetscCall(VecGetArrayRead(sc->kvremote, &view.nur));
+  PetscCall(SumContactSides(sc, x, xr, view.nu, view.nur, NULL, sc->contact_sides));
+  PetscCall(VecCopy(sc->contact_sides, sc->contact_press));
   PetscCall(LoadVectors(sc, force));
   for (PetscInt s = 0; s < sc->friction_load_sweeps; s++) {
-    PetscCall(SumContactSides(sc, x, xr, PETSC_TRUE));
+    PetscCall(VecGetArrayRead(sc->contact_load, &view.w));
+    PetscCall(VecGetArrayRead(sc->wremote, &view.wr));
+    PetscCall(SumContactSides(sc, x, xr, view.nu, view.nur, &view, sc->contact_press));
+    PetscCall(VecRestoreArrayRead(sc->wremote, &view.wr));
+    PetscCall(VecRestoreArrayRead(sc->contact_load, &view.w));
     PetscCall(LoadVectors(sc, force));
   }
+  PetscCall(VecRestoreArrayRead(sc->kvremote, &view.nur));
+  PetscCall(VecRestoreArrayRead(sc->support, &view.nu));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 /* The add_to_implicit_step of the self-contact contribution (cloth.h), -self_collision_friction: every contact within
    the thickness gets the regularised Coulomb friction of the body contacts (friction.h, one law for both) on the
    tangential part of the relative velocity of its closest points, v_rel = sum_k a_k v_k, with the cloth's friction
-   scale. Its normal force is the load its particles carry (ContactNormalForce, lagged at the step's start as for the
+   scale. Its normal force is the load its particles carry (the larger of its sides' ContactSideLoads, lagged at the step's start as for the
    bodies), not its repulsion: sliding layers bounce by micrometres, and the repulsion at the step's start averaged
    4 % above the weight it carries (docs/self_collision.md). Particle k takes a_k f, and h a_j a_k S_j D S_k enters the
    blocks the repulsion already couples: D is symmetric positive semidefinite, so the system stays symmetric positive
@@ -631,11 +578,11 @@ static PetscErrorCode ContactLoads(ClothSelfContact sc, PetscScalar *x, PetscSca
    over-brakes a contact sliding with acceleration a at speed u by the fraction a h / u. Collective. */
 static PetscErrorCode AddFrictionToImplicitStep(void *ctx, PetscReal h, Vec velocity, Vec force, Mat A)
 {
-  ClothSelfContact   sc = (ClothSelfContact)ctx;
-  PetscScalar       *x, *xr, *v, *vr, *f, *fr;
-  const PetscScalar *w, *wr;
-  BodyNormals        bn;
-  PetscReal          scale, mu;
+  ClothSelfContact sc = (ClothSelfContact)ctx;
+  PetscScalar     *x, *xr, *v, *vr, *f, *fr;
+  ContactLoadView  view;
+  BodyNormals      bn;
+  PetscReal        scale, mu;
 
   PetscFunctionBeginUser;
   if (!sc->friction || sc->friction_coefficient == 0 || !sc->remote_scatter || !sc->any_candidates) PetscFunctionReturn(PETSC_SUCCESS);
@@ -647,9 +594,9 @@ static PetscErrorCode AddFrictionToImplicitStep(void *ctx, PetscReal h, Vec velo
     PetscCall(VecDuplicate(sc->position, &sc->contact_push));
     PetscCall(VecDuplicate(sc->position, &sc->contact_sides));
     PetscCall(VecDuplicate(sc->position, &sc->contact_load));
+    PetscCall(VecDuplicate(sc->position, &sc->contact_press));
     PetscCall(VecDuplicate(sc->position, &sc->support));
   }
-  PetscCall(LayerNormals(sc)); /* before the positions are taken below: it reads them with their ghosts */
   PetscCall(SelfContactRefreshRemote(sc, sc->position, sc->xremote));
   PetscCall(VecGetArray(sc->position, &x));
   PetscCall(VecGetArray(sc->xremote, &xr));
@@ -657,8 +604,10 @@ static PetscErrorCode AddFrictionToImplicitStep(void *ctx, PetscReal h, Vec velo
   PetscCall(SelfContactRefreshRemote(sc, velocity, sc->vremote));
   PetscCall(VecZeroEntries(sc->fremote));
   PetscCall(BodyNormalsGet(sc, &bn));
-  PetscCall(VecGetArrayRead(sc->contact_load, &w));
-  PetscCall(VecGetArrayRead(sc->wremote, &wr));
+  PetscCall(VecGetArrayRead(sc->support, &view.nu));
+  PetscCall(VecGetArrayRead(sc->kvremote, &view.nur));
+  PetscCall(VecGetArrayRead(sc->contact_load, &view.w));
+  PetscCall(VecGetArrayRead(sc->wremote, &view.wr));
   PetscCall(VecGetArray(velocity, &v));
   PetscCall(VecGetArray(sc->vremote, &vr));
   PetscCall(VecGetArray(force, &f));
@@ -666,7 +615,7 @@ static PetscErrorCode AddFrictionToImplicitStep(void *ctx, PetscReal h, Vec velo
   for (PetscInt c = 0; c < sc->ncontacts; c++) {
     const ClothContact *contact = &sc->contacts[c];
     const PetscInt     *loc     = &sc->local[SELF_CONTACT_NP * c];
-    PetscReal           vrel[3] = {0, 0, 0}, n[3], vt[3], ff[3], D[9], vn, push;
+    PetscReal           vrel[3] = {0, 0, 0}, n[3], vt[3], ff[3], D[9], vn, push, side[2];
     PetscBool           acts;
 
     PetscCall(ContactPush(sc, c, x, xr, &acts, n, &push));
@@ -675,7 +624,8 @@ static PetscErrorCode AddFrictionToImplicitStep(void *ctx, PetscReal h, Vec velo
       for (PetscInt q = 0; q < 3; q++) vrel[q] += contact->a[j] * PetscRealPart(At(sc, v, vr, loc[j])[q]);
     vn = Dot3(vrel, n);
     for (PetscInt q = 0; q < 3; q++) vt[q] = vrel[q] - vn * n[q];
-    PetscCall(ClothRegularisedFriction(mu, mu, ContactNormalForce(sc, c, w, wr, n, push), sc->friction_velocity, 0.0, PETSC_TRUE, n, vt, ff, D));
+    ContactSideLoads(sc, &view, c, n, push, side);
+    PetscCall(ClothRegularisedFriction(mu, mu, PetscMax(side[0], side[1]), sc->friction_velocity, 0.0, PETSC_TRUE, n, vt, ff, D));
     for (PetscInt j = 0; j < SELF_CONTACT_NP; j++)
       for (PetscInt q = 0; q < 3; q++) At(sc, f, fr, loc[j])[q] += contact->a[j] * ff[q];
     PetscCall(AddContactStiffness(sc, &bn, c, D, h, A));
@@ -684,8 +634,10 @@ static PetscErrorCode AddFrictionToImplicitStep(void *ctx, PetscReal h, Vec velo
   PetscCall(VecRestoreArray(force, &f));
   PetscCall(VecRestoreArray(sc->vremote, &vr));
   PetscCall(VecRestoreArray(velocity, &v));
-  PetscCall(VecRestoreArrayRead(sc->wremote, &wr));
-  PetscCall(VecRestoreArrayRead(sc->contact_load, &w));
+  PetscCall(VecRestoreArrayRead(sc->wremote, &view.wr));
+  PetscCall(VecRestoreArrayRead(sc->contact_load, &view.w));
+  PetscCall(VecRestoreArrayRead(sc->kvremote, &view.nur));
+  PetscCall(VecRestoreArrayRead(sc->support, &view.nu));
   PetscCall(VecRestoreArray(sc->xremote, &xr));
   PetscCall(VecRestoreArray(sc->position, &x));
   PetscCall(BodyNormalsRestore(sc, &bn));
@@ -830,7 +782,7 @@ PetscErrorCode ClothSelfContactSetFromOptions(ClothSelfContact sc)
   PetscCall(PetscOptionsBool("-self_collision_friction", "Regularised Coulomb friction between layers in contact, in the implicit step", "ClothSelfContactGetContribution", sc->friction, &sc->friction, NULL));
   PetscCall(PetscOptionsReal("-self_collision_friction_coefficient", "Friction coefficient mu between layers", "ClothSelfContactGetContribution", sc->friction_coefficient, &sc->friction_coefficient, NULL));
   PetscCall(PetscOptionsReal("-self_collision_friction_velocity", "Friction between layers: regularisation velocity eps_v, m/s", "ClothSelfContactGetContribution", sc->friction_velocity, &sc->friction_velocity, NULL));
-  PetscCall(PetscOptionsInt("-self_collision_friction_load_sweeps", "Friction between layers: sweeps carrying the loads of stacked layers down (n layers above a contact need n - 1)", "ClothSelfContactGetContribution", sc->friction_load_sweeps,
+  PetscCall(PetscOptionsInt("-self_collision_friction_load_sweeps", "Friction between layers: sweeps carrying the loads of stacked layers down (a stack of n layers needs n - 2)", "ClothSelfContactGetContribution", sc->friction_load_sweeps,
                             &sc->friction_load_sweeps, NULL));
   PetscCall(PetscOptionsBool("-self_collision_view", "Print the self-collision settings and statistics at the end", "ClothSelfContactView", sc->view, &sc->view, NULL));
   PetscOptionsEnd();
@@ -1031,8 +983,8 @@ PetscErrorCode ClothSelfContactDestroy(ClothSelfContact *sc)
   PetscCall(VecDestroy(&s->contact_push));
   PetscCall(VecDestroy(&s->contact_sides));
   PetscCall(VecDestroy(&s->contact_load));
+  PetscCall(VecDestroy(&s->contact_press));
   PetscCall(VecDestroy(&s->support));
-  PetscCall(PetscFree(s->local_of_natural));
   PetscCall(VecDestroy(&s->wremote));
   PetscCall(VecScatterDestroy(&s->remote_scatter));
   PetscCall(PetscFree(*sc));

@@ -29,10 +29,10 @@ struct _n_ClothSelfContact {
   PetscReal                 friction_coefficient; /* mu */
   PetscReal                 friction_velocity;    /* eps_v of the regularised law, m/s */
   Vec                       contact_push;         /* friction: each particle's net repulsion, then its load vector */
-  Vec                       contact_sides;        /* friction: its contacts' pushes along and against the net one */
-  Vec                       contact_load;         /* friction: its load vector */
-  Vec                       support;              /* friction: its layer normal, then its support direction */
-  PetscInt                 *local_of_natural;     /* friction: natural -> the cloth's local (owned, ghosts) index, -1 elsewhere */
+  Vec                       contact_sides;        /* friction: its contacts' pushes along +nu and -nu */
+  Vec                       contact_press;        /* friction: what the layers on either side press it with */
+  Vec                       contact_load;         /* friction: its load per unit push, towards +nu and -nu */
+  Vec                       support;              /* friction: the direction nu of its net repulsion */
   PetscInt                  friction_load_sweeps; /* friction: sweeps carrying the loads of stacked layers down */
   PetscInt                  exclude_ring, impulse_iterations;
   PetscBool                 same_piece;
