@@ -466,13 +466,13 @@ static void ContactSideLoads(ClothSelfContact sc, const ContactLoadView *view, P
    the loads of the contacts' other sides (ContactSideLoads): what the layers on either side press it with. Collective. */
 static PetscErrorCode SumContactSides(ClothSelfContact sc, PetscScalar *x, PetscScalar *xr, const PetscScalar *nu, const PetscScalar *nur, const ContactLoadView *view, Vec out)
 {
-  PetscScalar *o, * or ;
+  PetscScalar *o, *orem;
 
   PetscFunctionBeginUser;
   PetscCall(VecZeroEntries(out));
   PetscCall(VecZeroEntries(sc->fremote));
   PetscCall(VecGetArray(out, &o));
-  PetscCall(VecGetArray(sc->fremote, & or));
+  PetscCall(VecGetArray(sc->fremote, &orem));
   for (PetscInt c = 0; c < sc->ncontacts; c++) {
     const ClothContact *contact = &sc->contacts[c];
     const PetscInt     *loc     = &sc->local[SELF_CONTACT_NP * c];
@@ -486,11 +486,11 @@ static PetscErrorCode SumContactSides(ClothSelfContact sc, PetscScalar *x, Petsc
       const PetscReal along = contact->a[j] * Dot3(n, AtRead(sc, nu, nur, loc[j]));
       const PetscReal value = view ? side[contact->a[j] > 0 ? 1 : 0] : push; /* the other side's load */
 
-      At(sc, o, or, loc[j])[0] += PetscMax(0.0, along) * value;
-      At(sc, o, or, loc[j])[1] += PetscMax(0.0, -along) * value;
+      At(sc, o, orem, loc[j])[0] += PetscMax(0.0, along) * value;
+      At(sc, o, orem, loc[j])[1] += PetscMax(0.0, -along) * value;
     }
   }
-  PetscCall(VecRestoreArray(sc->fremote, & or));
+  PetscCall(VecRestoreArray(sc->fremote, &orem));
   PetscCall(VecRestoreArray(out, &o));
   PetscCall(SelfContactSumRemoteInto(sc, sc->fremote, out));
   PetscFunctionReturn(PETSC_SUCCESS);
