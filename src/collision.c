@@ -290,7 +290,7 @@ static PetscErrorCode AddFrictionToImplicitStep(void *ctx, PetscReal h, Vec velo
     /* free, pinned, or stuck (-collision_friction explicit's S = 0, e.g. from its checkpoint): nothing to add */
     if (fixed[i] || ClothContactScale(&c[3 * i]) != 1.0 || col->held[i].body < 0) continue;
     for (PetscInt k = 0; k < 3; k++) n[k] = PetscRealPart(c[3 * i + k]);
-    normal_force = PetscMax(0.0, -Dot3(&f[3 * i], n));
+    PetscCall(ClothFrictionNormalLoad(&f[3 * i], n, &normal_force));
     PetscCall(BodyGetDescription(col->bodies[col->held[i].body], &d));
     if (normal_force == 0 || (d->friction_static == 0 && d->friction_kinetic == 0)) continue;
     vn = Dot3(&v[3 * i], n);

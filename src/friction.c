@@ -26,3 +26,10 @@ PetscErrorCode ClothRegularisedFriction(PetscReal mu_s, PetscReal mu_k, PetscRea
     for (PetscInt c = 0; c < 3; c++) D[3 * r + c] = across * ((r == c ? 1.0 : 0.0) - n[r] * n[c] - t[r] * t[c]) + along * t[r] * t[c];
   PetscFunctionReturn(PETSC_SUCCESS);
 }
+
+PetscErrorCode ClothFrictionNormalLoad(const PetscReal force[3], const PetscReal n[3], PetscReal *normal_force)
+{
+  PetscFunctionBeginUser;
+  *normal_force = PetscMax(0.0, -Dot3(force, n));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}

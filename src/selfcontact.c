@@ -368,21 +368,219 @@ static PetscReal InverseMass(ClothSelfContact sc, PetscInt natural)
 /* ------------------------------------------------------------------------------------------------ */
 /* Friction between layers                                                                          */
 
+/* Contact c's repulsion at the positions (x, xr) (contact-local): whether it acts (within the thickness), its normal n
+   (along r, into the side of a[0]) and its magnitude push = k (thickness - |r|). */
+static PetscErrorCode ContactPush(ClothSelfContact sc, PetscInt c, PetscScalar *x, PetscScalar *xr, PetscBool *acts, PetscReal n[3], PetscReal *push)
+{
+  const ClothContact *contact = &sc->contacts[c];
+  const PetscInt     *loc     = &sc->local[SELF_CONTACT_NP * c];
+  PetscReal           r[3]    = {0, 0, 0}, e, frep[3], d;
+
+  PetscFunctionBeginUser;
+  for (PetscInt j = 0; j < SELF_CONTACT_NP; j++)
+    for (PetscInt q = 0; q < 3; q++) r[q] += contact->a[j] * PetscRealPart(At(sc, x, xr, loc[j])[q]);
+  d     = PetscSqrtReal(Dot3(r, r));
+  *acts = (d < sc->thickness && d > 0) ? PETSC_TRUE : PETSC_FALSE; /* no repulsion (or no direction): no normal force */
+  *push = 0;
+  if (!*acts) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(RepulsionEvaluate(sc, r, PETSC_TRUE, &e, frep, NULL));
+  for (PetscInt q = 0; q < 3; q++) n[q] = r[q] / d;
+  *push = PetscSqrtReal(Dot3(frep, frep));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* A contact-local particle's 3-vector in an owned array or the remote one (read only). */
+static inline const PetscScalar *AtRead(ClothSelfContact sc, const PetscScalar *owned, const PetscScalar *remote, PetscInt k)
+{
+  return k < sc->layout.nlocal ? &owned[3 * k] : &remote[3 * (k - sc->layout.nlocal)];
+}
+
+/* Every owned particle's net repulsion R = sum_c a_k push_c n_c (contact_push) over the contacts of all ranks, and its
+   direction nu = R / |R| (support, 0 without contacts; the remote particles' in kvremote): the axis along which
+   LoadVectors splits its contacts into the two sides of its layer. Collective. */
+static PetscErrorCode SupportDirections(ClothSelfContact sc, PetscScalar *x, PetscScalar *xr)
+{
+  PetscScalar       *R, *Rr, *nu;
+  const PetscScalar *Rc;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecZeroEntries(sc->contact_push));
+  PetscCall(VecZeroEntries(sc->fremote));
+  PetscCall(VecGetArray(sc->contact_push, &R));
+  PetscCall(VecGetArray(sc->fremote, &Rr));
+  for (PetscInt c = 0; c < sc->ncontacts; c++) {
+    const ClothContact *contact = &sc->contacts[c];
+    const PetscInt     *loc     = &sc->local[SELF_CONTACT_NP * c];
+    PetscReal           n[3], push;
+    PetscBool           acts;
+
+    PetscCall(ContactPush(sc, c, x, xr, &acts, n, &push));
+    if (!acts) continue;
+    for (PetscInt j = 0; j < SELF_CONTACT_NP; j++)
+      for (PetscInt q = 0; q < 3; q++) At(sc, R, Rr, loc[j])[q] += contact->a[j] * push * n[q];
+  }
+  PetscCall(VecRestoreArray(sc->fremote, &Rr));
+  PetscCall(VecRestoreArray(sc->contact_push, &R));
+  PetscCall(SelfContactSumRemoteInto(sc, sc->fremote, sc->contact_push));
+  PetscCall(VecGetArrayRead(sc->contact_push, &Rc));
+  PetscCall(VecGetArray(sc->support, &nu));
+  for (PetscInt i = 0; i < sc->layout.nlocal; i++) {
+    const PetscReal Rn = PetscSqrtReal(Dot3(&Rc[3 * i], &Rc[3 * i]));
+
+    for (PetscInt q = 0; q < 3; q++) nu[3 * i + q] = Rn > 0 ? Rc[3 * i + q] / Rn : 0.0;
+  }
+  PetscCall(VecRestoreArray(sc->support, &nu));
+  PetscCall(VecRestoreArrayRead(sc->contact_push, &Rc));
+  PetscCall(SelfContactRefreshRemote(sc, sc->support, sc->kvremote));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Loaded views of the contacts: the particles' axes nu and load vectors w (LoadVectors: w[0] per unit push of the
+   contacts that push the particle along +nu, w[1] along -nu), owned and remote. */
+typedef struct {
+  const PetscScalar *nu, *nur, *w, *wr;
+} ContactLoadView;
+
+/* Particle k's (contact-local loc, weight a) share of a contact with normal n, per unit of its push: the load it
+   carries on the contact, max(0, a n . nu) w[0] + max(0, -a n . nu) w[1] (continuous as the contact turns). */
+static PetscReal ParticleShare(ClothSelfContact sc, const ContactLoadView *view, PetscInt loc, PetscReal a, const PetscReal n[3])
+{
+  const PetscReal along = a * Dot3(n, AtRead(sc, view->nu, view->nur, loc));
+  const PetscReal w0 = PetscRealPart(AtRead(sc, view->w, view->wr, loc)[0]), w1 = PetscRealPart(AtRead(sc, view->w, view->wr, loc)[1]);
+
+  return PetscMax(0.0, along) * w0 + PetscMax(0.0, -along) * w1;
+}
+
+/* The two sides' estimates of contact c's normal force (side 0: a > 0, side 1: a < 0): push times the sum of their
+   particles' shares. */
+static void ContactSideLoads(ClothSelfContact sc, const ContactLoadView *view, PetscInt c, const PetscReal n[3], PetscReal push, PetscReal side[2])
+{
+  const ClothContact *contact = &sc->contacts[c];
+
+  side[0] = side[1] = 0;
+  for (PetscInt j = 0; j < SELF_CONTACT_NP; j++) side[contact->a[j] > 0 ? 0 : 1] += push * ParticleShare(sc, view, sc->local[SELF_CONTACT_NP * c + j], contact->a[j], n);
+}
+
+/* Every owned particle's contacts split by their push on it along +nu and -nu (components 0, 1 of out): with
+   view NULL the pushes themselves (pushes: U+, U-; or, as the first guess of the loads pressing it, D+, D-), else
+   the loads of the contacts' other sides (ContactSideLoads): what the layers on either side press it with. Collective. */
+static PetscErrorCode SumContactSides(ClothSelfContact sc, PetscScalar *x, PetscScalar *xr, const PetscScalar *nu, const PetscScalar *nur, const ContactLoadView *view, Vec out)
+{
+  PetscScalar *o, *orem;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecZeroEntries(out));
+  PetscCall(VecZeroEntries(sc->fremote));
+  PetscCall(VecGetArray(out, &o));
+  PetscCall(VecGetArray(sc->fremote, &orem));
+  for (PetscInt c = 0; c < sc->ncontacts; c++) {
+    const ClothContact *contact = &sc->contacts[c];
+    const PetscInt     *loc     = &sc->local[SELF_CONTACT_NP * c];
+    PetscReal           n[3], push, side[2] = {0, 0};
+    PetscBool           acts;
+
+    PetscCall(ContactPush(sc, c, x, xr, &acts, n, &push));
+    if (!acts) continue;
+    if (view) ContactSideLoads(sc, view, c, n, push, side);
+    for (PetscInt j = 0; j < SELF_CONTACT_NP; j++) {
+      const PetscReal along = contact->a[j] * Dot3(n, AtRead(sc, nu, nur, loc[j]));
+      const PetscReal value = view ? side[contact->a[j] > 0 ? 1 : 0] : push; /* the other side's load */
+
+      At(sc, o, orem, loc[j])[0] += PetscMax(0.0, along) * value;
+      At(sc, o, orem, loc[j])[1] += PetscMax(0.0, -along) * value;
+    }
+  }
+  PetscCall(VecRestoreArray(sc->fremote, &orem));
+  PetscCall(VecRestoreArray(out, &o));
+  PetscCall(SelfContactSumRemoteInto(sc, sc->fremote, out));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Every particle's load vector (contact_load; the remote particles' in wremote): the friction.h normal force it
+   presses the contacts that push it along +nu with, max(0, -(F - R) . nu + D-) (its force without the repulsion:
+   internal, gravity, damping; D-: the layers on its other side pressing it), per unit of their push U+, in
+   component 0, and the same towards -nu in component 1. Collective. */
+static PetscErrorCode LoadVectors(ClothSelfContact sc, Vec force)
+{
+  const PetscScalar *f, *R, *U, *P, *nu;
+  PetscScalar       *w;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecGetArrayRead(force, &f));
+  PetscCall(VecGetArrayRead(sc->contact_push, &R));
+  PetscCall(VecGetArrayRead(sc->contact_sides, &U));
+  PetscCall(VecGetArrayRead(sc->contact_press, &P));
+  PetscCall(VecGetArrayRead(sc->support, &nu));
+  PetscCall(VecGetArray(sc->contact_load, &w));
+  for (PetscInt i = 0; i < sc->layout.nlocal; i++) {
+    PetscReal up[3], down[3], to_down[3], to_up[3], load[2];
+
+    for (PetscInt q = 0; q < 3; q++) {
+      up[q]      = PetscRealPart(nu[3 * i + q]);
+      down[q]    = -up[q];
+      to_down[q] = PetscRealPart(f[3 * i + q] - R[3 * i + q]) - PetscRealPart(P[3 * i + 1]) * up[q]; /* what presses it towards -nu */
+      to_up[q]   = PetscRealPart(f[3 * i + q] - R[3 * i + q]) + PetscRealPart(P[3 * i + 0]) * up[q]; /* towards +nu */
+    }
+    PetscCall(ClothFrictionNormalLoad(to_down, up, &load[0]));
+    PetscCall(ClothFrictionNormalLoad(to_up, down, &load[1]));
+    for (PetscInt s = 0; s < 2; s++) w[3 * i + s] = PetscRealPart(U[3 * i + s]) > 0 ? load[s] / PetscRealPart(U[3 * i + s]) : 0.0;
+    w[3 * i + 2] = 0;
+  }
+  PetscCall(VecRestoreArray(sc->contact_load, &w));
+  PetscCall(VecRestoreArrayRead(sc->support, &nu));
+  PetscCall(VecRestoreArrayRead(sc->contact_press, &P));
+  PetscCall(VecRestoreArrayRead(sc->contact_sides, &U));
+  PetscCall(VecRestoreArrayRead(sc->contact_push, &R));
+  PetscCall(VecRestoreArrayRead(force, &f));
+  PetscCall(SelfContactRefreshRemote(sc, sc->contact_load, sc->wremote));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The load vectors (contact_load, wremote; support and kvremote the axes nu) of the contacts at (x, xr) under the
+   forces force: with the layers' repulsions as the first guess of what they press each other with, then load_sweeps
+   times with the loads their other sides carry (a stack of n layers needs n - 2 sweeps to carry the top layer's load
+   down to the lowest contact). Collective. */
+static PetscErrorCode ContactLoads(ClothSelfContact sc, PetscScalar *x, PetscScalar *xr, Vec force)
+{
+  ContactLoadView view;
+
+  PetscFunctionBeginUser;
+  PetscCall(SupportDirections(sc, x, xr));
+  PetscCall(VecGetArrayRead(sc->support, &view.nu));
+  PetscCall(VecGetArrayRead(sc->kvremote, &view.nur));
+  PetscCall(SumContactSides(sc, x, xr, view.nu, view.nur, NULL, sc->contact_sides));
+  PetscCall(VecCopy(sc->contact_sides, sc->contact_press));
+  PetscCall(LoadVectors(sc, force));
+  for (PetscInt s = 0; s < sc->friction_load_sweeps; s++) {
+    PetscCall(VecGetArrayRead(sc->contact_load, &view.w));
+    PetscCall(VecGetArrayRead(sc->wremote, &view.wr));
+    PetscCall(SumContactSides(sc, x, xr, view.nu, view.nur, &view, sc->contact_press));
+    PetscCall(VecRestoreArrayRead(sc->wremote, &view.wr));
+    PetscCall(VecRestoreArrayRead(sc->contact_load, &view.w));
+    PetscCall(LoadVectors(sc, force));
+  }
+  PetscCall(VecRestoreArrayRead(sc->kvremote, &view.nur));
+  PetscCall(VecRestoreArrayRead(sc->support, &view.nu));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 /* The add_to_implicit_step of the self-contact contribution (cloth.h), -self_collision_friction: every contact within
    the thickness gets the regularised Coulomb friction of the body contacts (friction.h, one law for both) on the
-   tangential part of the relative velocity of its closest points, v_rel = sum_k a_k v_k, with the repulsion at the
-   step's start as its normal force (lagged, as for the bodies) and the cloth's friction scale. Particle k takes
-   a_k f, and h a_j a_k S_j D S_k enters the blocks the repulsion already couples: D is symmetric positive semidefinite,
-   so the system stays symmetric positive definite. Along the motion D is the drag mu N / s (drag_along), not the
-   derivative (about 0 while sliding): with the derivative, a particle that several contacts press at once (a fold, two
-   grids passing over each other) was carried by their summed friction through v_t = 0 into a reversal within one step
-   (a sheet sliding at 0.18 m/s thrown back at 0.38 m/s); the body contacts stop such reversals after the solve, which
-   a pair of moving layers cannot. The drag over-brakes a contact sliding with acceleration a at speed u by the
-   fraction a h / u (docs/self_collision.md). Collective. */
+   tangential part of the relative velocity of its closest points, v_rel = sum_k a_k v_k, with the cloth's friction
+   scale. Its normal force is the load its particles carry (the larger of its sides' ContactSideLoads, lagged at the step's start as for the
+   bodies), not its repulsion: sliding layers bounce by micrometres, and the repulsion at the step's start averaged
+   4 % above the weight it carries (docs/self_collision.md). Particle k takes a_k f, and h a_j a_k S_j D S_k enters the
+   blocks the repulsion already couples: D is symmetric positive semidefinite, so the system stays symmetric positive
+   definite. Along the motion D is the drag mu N / s (drag_along), not the derivative (about 0 while sliding): with the
+   derivative, a particle that several contacts press at once (a fold, two grids passing over each other) was carried
+   by their summed friction through v_t = 0 into a reversal within one step (a sheet sliding at 0.18 m/s thrown back
+   at 0.38 m/s); the body contacts stop such reversals after the solve, which a pair of moving layers cannot. The drag
+   over-brakes a contact sliding with acceleration a at speed u by the fraction a h / u. Collective. */
 static PetscErrorCode AddFrictionToImplicitStep(void *ctx, PetscReal h, Vec velocity, Vec force, Mat A)
 {
   ClothSelfContact sc = (ClothSelfContact)ctx;
   PetscScalar     *x, *xr, *v, *vr, *f, *fr;
+  ContactLoadView  view;
   BodyNormals      bn;
   PetscReal        scale, mu;
 
@@ -392,12 +590,24 @@ static PetscErrorCode AddFrictionToImplicitStep(void *ctx, PetscReal h, Vec velo
   PetscCall(PetscLogEventBegin(ClothLog.self_forces, 0, 0, 0, 0));
   PetscCall(ClothGetFrictionScale(sc->cloth, &scale));
   mu = scale * sc->friction_coefficient;
+  if (!sc->contact_push) {
+    PetscCall(VecDuplicate(sc->position, &sc->contact_push));
+    PetscCall(VecDuplicate(sc->position, &sc->contact_sides));
+    PetscCall(VecDuplicate(sc->position, &sc->contact_load));
+    PetscCall(VecDuplicate(sc->position, &sc->contact_press));
+    PetscCall(VecDuplicate(sc->position, &sc->support));
+  }
   PetscCall(SelfContactRefreshRemote(sc, sc->position, sc->xremote));
+  PetscCall(VecGetArray(sc->position, &x));
+  PetscCall(VecGetArray(sc->xremote, &xr));
+  PetscCall(ContactLoads(sc, x, xr, force));
   PetscCall(SelfContactRefreshRemote(sc, velocity, sc->vremote));
   PetscCall(VecZeroEntries(sc->fremote));
   PetscCall(BodyNormalsGet(sc, &bn));
-  PetscCall(VecGetArray(sc->position, &x));
-  PetscCall(VecGetArray(sc->xremote, &xr));
+  PetscCall(VecGetArrayRead(sc->support, &view.nu));
+  PetscCall(VecGetArrayRead(sc->kvremote, &view.nur));
+  PetscCall(VecGetArrayRead(sc->contact_load, &view.w));
+  PetscCall(VecGetArrayRead(sc->wremote, &view.wr));
   PetscCall(VecGetArray(velocity, &v));
   PetscCall(VecGetArray(sc->vremote, &vr));
   PetscCall(VecGetArray(force, &f));
@@ -405,21 +615,17 @@ static PetscErrorCode AddFrictionToImplicitStep(void *ctx, PetscReal h, Vec velo
   for (PetscInt c = 0; c < sc->ncontacts; c++) {
     const ClothContact *contact = &sc->contacts[c];
     const PetscInt     *loc     = &sc->local[SELF_CONTACT_NP * c];
-    PetscReal           r[3] = {0, 0, 0}, vrel[3] = {0, 0, 0}, n[3], vt[3], e, frep[3], ff[3], D[9], d, vn, normal_force;
+    PetscReal           vrel[3] = {0, 0, 0}, n[3], vt[3], ff[3], D[9], vn, push, side[2];
+    PetscBool           acts;
 
+    PetscCall(ContactPush(sc, c, x, xr, &acts, n, &push));
+    if (!acts) continue;
     for (PetscInt j = 0; j < SELF_CONTACT_NP; j++)
-      for (PetscInt q = 0; q < 3; q++) {
-        r[q] += contact->a[j] * PetscRealPart(At(sc, x, xr, loc[j])[q]);
-        vrel[q] += contact->a[j] * PetscRealPart(At(sc, v, vr, loc[j])[q]);
-      }
-    d = PetscSqrtReal(Dot3(r, r));
-    if (!(d < sc->thickness) || d <= 0) continue; /* no repulsion, no normal force */
-    PetscCall(RepulsionEvaluate(sc, r, PETSC_TRUE, &e, frep, NULL));
-    for (PetscInt q = 0; q < 3; q++) n[q] = r[q] / d;
+      for (PetscInt q = 0; q < 3; q++) vrel[q] += contact->a[j] * PetscRealPart(At(sc, v, vr, loc[j])[q]);
     vn = Dot3(vrel, n);
     for (PetscInt q = 0; q < 3; q++) vt[q] = vrel[q] - vn * n[q];
-    normal_force = PetscSqrtReal(Dot3(frep, frep));
-    PetscCall(ClothRegularisedFriction(mu, mu, normal_force, sc->friction_velocity, 0.0, PETSC_TRUE, n, vt, ff, D));
+    ContactSideLoads(sc, &view, c, n, push, side);
+    PetscCall(ClothRegularisedFriction(mu, mu, PetscMax(side[0], side[1]), sc->friction_velocity, 0.0, PETSC_TRUE, n, vt, ff, D));
     for (PetscInt j = 0; j < SELF_CONTACT_NP; j++)
       for (PetscInt q = 0; q < 3; q++) At(sc, f, fr, loc[j])[q] += contact->a[j] * ff[q];
     PetscCall(AddContactStiffness(sc, &bn, c, D, h, A));
@@ -428,6 +634,10 @@ static PetscErrorCode AddFrictionToImplicitStep(void *ctx, PetscReal h, Vec velo
   PetscCall(VecRestoreArray(force, &f));
   PetscCall(VecRestoreArray(sc->vremote, &vr));
   PetscCall(VecRestoreArray(velocity, &v));
+  PetscCall(VecRestoreArrayRead(sc->wremote, &view.wr));
+  PetscCall(VecRestoreArrayRead(sc->contact_load, &view.w));
+  PetscCall(VecRestoreArrayRead(sc->kvremote, &view.nur));
+  PetscCall(VecRestoreArrayRead(sc->support, &view.nu));
   PetscCall(VecRestoreArray(sc->xremote, &xr));
   PetscCall(VecRestoreArray(sc->position, &x));
   PetscCall(BodyNormalsRestore(sc, &bn));
@@ -551,6 +761,7 @@ PetscErrorCode ClothSelfContactCreate(Cloth cloth, ClothSelfContact *sc)
   s->friction             = PETSC_FALSE;
   s->friction_coefficient = 0.3;
   s->friction_velocity    = 1e-4;
+  s->friction_load_sweeps = 2;
   PetscCallMPI(MPI_Comm_size(s->comm, &s->size));
   PetscCallMPI(MPI_Comm_rank(s->comm, &s->rank));
   *sc = s;
@@ -571,6 +782,8 @@ PetscErrorCode ClothSelfContactSetFromOptions(ClothSelfContact sc)
   PetscCall(PetscOptionsBool("-self_collision_friction", "Regularised Coulomb friction between layers in contact, in the implicit step", "ClothSelfContactGetContribution", sc->friction, &sc->friction, NULL));
   PetscCall(PetscOptionsReal("-self_collision_friction_coefficient", "Friction coefficient mu between layers", "ClothSelfContactGetContribution", sc->friction_coefficient, &sc->friction_coefficient, NULL));
   PetscCall(PetscOptionsReal("-self_collision_friction_velocity", "Friction between layers: regularisation velocity eps_v, m/s", "ClothSelfContactGetContribution", sc->friction_velocity, &sc->friction_velocity, NULL));
+  PetscCall(PetscOptionsInt("-self_collision_friction_load_sweeps", "Friction between layers: sweeps carrying the loads of stacked layers down (a stack of n layers needs n - 2)", "ClothSelfContactGetContribution", sc->friction_load_sweeps,
+                            &sc->friction_load_sweeps, NULL));
   PetscCall(PetscOptionsBool("-self_collision_view", "Print the self-collision settings and statistics at the end", "ClothSelfContactView", sc->view, &sc->view, NULL));
   PetscOptionsEnd();
   if (sc->enabled) {
@@ -588,6 +801,7 @@ PetscErrorCode ClothSelfContactSetFromOptions(ClothSelfContact sc)
     PetscCall(ClothOptionsCheckReal(sc->comm, "-self_collision_skin", sc->skin, 0, PETSC_FALSE, 100, NULL));
     PetscCall(ClothOptionsCheckReal(sc->comm, "-self_collision_friction_coefficient", sc->friction_coefficient, 0, PETSC_FALSE, 100, NULL));
     PetscCall(ClothOptionsCheckReal(sc->comm, "-self_collision_friction_velocity", sc->friction_velocity, 0, PETSC_TRUE, PETSC_MAX_REAL, "m/s"));
+    PetscCall(ClothOptionsCheckInt(sc->comm, "-self_collision_friction_load_sweeps", sc->friction_load_sweeps, 0, 100));
     PetscCheck(sc->impulse_iterations >= 1, sc->comm, PETSC_ERR_USER_INPUT, "-self_collision_impulse_iterations must be at least 1, got %" PetscInt_FMT, sc->impulse_iterations);
   }
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -729,7 +943,7 @@ PetscErrorCode ClothSelfContactView(ClothSelfContact sc, PetscViewer viewer)
                                    sc->searches ? (double)sum[0] / (double)sc->searches : 0.0, (PetscInt)sum[1], sc->rebuilds, (PetscInt)sum[2]));
   PetscCall(PetscViewerASCIIPrintf(viewer, "  candidate list (skin %g x thickness): %" PetscInt_FMT " builds, %.1f candidates per build\n", (double)sc->skin, sc->builds, sc->builds ? (double)sum[3] / (double)sc->builds : 0.0));
   if (sc->friction)
-    PetscCall(PetscViewerASCIIPrintf(viewer, "  friction between layers: regularised Coulomb, mu %g, eps_v %g m/s\n", (double)sc->friction_coefficient, (double)sc->friction_velocity));
+    PetscCall(PetscViewerASCIIPrintf(viewer, "  friction between layers: regularised Coulomb, mu %g, eps_v %g m/s, %" PetscInt_FMT " load sweeps\n", (double)sc->friction_coefficient, (double)sc->friction_velocity, sc->friction_load_sweeps));
   else
     PetscCall(PetscViewerASCIIPrintf(viewer, "  friction between layers: off\n"));
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -766,6 +980,12 @@ PetscErrorCode ClothSelfContactDestroy(ClothSelfContact *sc)
   PetscCall(VecDestroy(&s->fremote));
   PetscCall(VecDestroy(&s->kvremote));
   PetscCall(VecDestroy(&s->bremote));
+  PetscCall(VecDestroy(&s->contact_push));
+  PetscCall(VecDestroy(&s->contact_sides));
+  PetscCall(VecDestroy(&s->contact_load));
+  PetscCall(VecDestroy(&s->contact_press));
+  PetscCall(VecDestroy(&s->support));
+  PetscCall(VecDestroy(&s->wremote));
   PetscCall(VecScatterDestroy(&s->remote_scatter));
   PetscCall(PetscFree(*sc));
   PetscFunctionReturn(PETSC_SUCCESS);

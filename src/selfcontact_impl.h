@@ -28,6 +28,12 @@ struct _n_ClothSelfContact {
   PetscBool                 friction;             /* regularised Coulomb friction between layers in the implicit step */
   PetscReal                 friction_coefficient; /* mu */
   PetscReal                 friction_velocity;    /* eps_v of the regularised law, m/s */
+  Vec                       contact_push;         /* friction: each particle's net repulsion, then its load vector */
+  Vec                       contact_sides;        /* friction: its contacts' pushes along +nu and -nu */
+  Vec                       contact_press;        /* friction: what the layers on either side press it with */
+  Vec                       contact_load;         /* friction: its load per unit push, towards +nu and -nu */
+  Vec                       support;              /* friction: the direction nu of its net repulsion */
+  PetscInt                  friction_load_sweeps; /* friction: sweeps carrying the loads of stacked layers down */
   PetscInt                  exclude_ring, impulse_iterations;
   PetscBool                 same_piece;
   ClothSelfContactExcludeFn exclude;
@@ -46,14 +52,14 @@ struct _n_ClothSelfContact {
   PetscInt      nremote_prev;         /* remote particles listed in natural_of */
   PetscInt     *tri_mark, *edge_mark; /* per primitive: the search (or query) that last visited it */
   PetscInt      visit;
-  PetscInt     *natural_of;                                   /* contact-local -> natural */
-  PetscInt     *contact_index;                                /* natural -> contact-local, -1 when not present (size N) */
-  PetscReal    *x, *dx;                                       /* contact-local positions at the search, displacements over the step */
-  PetscReal    *x0;                                           /* contact-local positions when the candidate list was built */
-  PetscInt      nalloc;                                       /* contact-local particles natural_of, x, dx, x0 have room for */
-  Vec           xremote, vremote, fremote, kvremote, bremote; /* bremote: body-contact normals */
-  VecScatter    remote_scatter;                               /* cloth state -> remote particles */
-  CellGrid      triangle_grid, edge_grid;                     /* the cell grids of the last search */
+  PetscInt     *natural_of;                                            /* contact-local -> natural */
+  PetscInt     *contact_index;                                         /* natural -> contact-local, -1 when not present (size N) */
+  PetscReal    *x, *dx;                                                /* contact-local positions at the search, displacements over the step */
+  PetscReal    *x0;                                                    /* contact-local positions when the candidate list was built */
+  PetscInt      nalloc;                                                /* contact-local particles natural_of, x, dx, x0 have room for */
+  Vec           xremote, vremote, fremote, kvremote, bremote, wremote; /* bremote: body-contact normals; wremote: load vectors */
+  VecScatter    remote_scatter;                                        /* cloth state -> remote particles */
+  CellGrid      triangle_grid, edge_grid;                              /* the cell grids of the last search */
   PetscInt      ncontacts, maxcontacts;
   ClothContact *contacts; /* natural numbering */
   PetscInt     *local;    /* 4 contact-local indices per contact */

@@ -269,12 +269,14 @@ static PetscErrorCode SetRemoteParticles(ClothSelfContact sc, PetscInt nrecv, Pe
   PetscCall(VecDestroy(&sc->fremote));
   PetscCall(VecDestroy(&sc->kvremote));
   PetscCall(VecDestroy(&sc->bremote));
+  PetscCall(VecDestroy(&sc->wremote));
   PetscCall(VecCreateSeq(PETSC_COMM_SELF, 3 * nrecv, &sc->xremote));
   PetscCall(VecSetBlockSize(sc->xremote, 3));
   PetscCall(VecDuplicate(sc->xremote, &sc->vremote));
   PetscCall(VecDuplicate(sc->xremote, &sc->fremote));
   PetscCall(VecDuplicate(sc->xremote, &sc->kvremote));
   PetscCall(VecDuplicate(sc->xremote, &sc->bremote));
+  PetscCall(VecDuplicate(sc->xremote, &sc->wremote));
   PetscCall(PetscMalloc1(nrecv + 1, &solver));
   for (PetscInt k = 0; k < nrecv; k++) solver[k] = layout->solver_of_natural[recv[k]];
   PetscCall(ISCreateBlock(PETSC_COMM_SELF, 3, nrecv, solver, PETSC_OWN_POINTER, &from));

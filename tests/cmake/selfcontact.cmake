@@ -38,9 +38,18 @@ set_tests_properties(selfcontact_folded_sheet selfcontact_two_sheets_sphere PROP
 
 # (c) Friction between layers (-self_collision_friction, docs/self_collision.md "Friction between layers"): a 0.1 m
 # sheet resting on a 0.4 m sheet that lies on a plane tilted by theta, mu 0.3, dt 1/960 s, 0.5 s, 1 rank
-# (tests/drivers/self_friction_incline.sh). Stick at 12 degrees (tan 0.21 < 0.3): the top sheet moves at most 0.5 mm (measured
-# 0.11 mm; frictionless it would slide 25 cm). Slide at 25 degrees (tan 0.47 > 0.3): the acceleration between 0.2 and
-# 0.4 s is g (sin - mu cos) = 1.479 m/s^2 within 10 % (measured 1.355, -8.4 %; the limit of today's treatment, see the
-# doc). About 35-40 s each on the loaded shared machine.
-clothsim_add_script_test(selfcontact_friction_stick self_friction_incline.sh stick 1 12 0.3)
+# (tests/drivers/self_friction_incline.sh). Stick at 16 degrees (tan 0.287 = 0.96 mu; 12 degrees until the normal force became
+# the carried load, 25 Nov 2026, moved nearer the limit where the check has teeth): the top sheet moves at most 0.5 mm
+# (measured 0.26 mm; frictionless it would slide 34 cm) and creeps over 0.4-0.5 s at the regularised law's
+# eps_v tan / sqrt(mu^2 - tan^2) plus the lower sheet's creep on the plane within 2 % (measured +0.69 %; with the
+# repulsion as the normal force +4.28 %). Slide at 25 degrees (tan 0.47 > 0.3): the acceleration between 0.2 and 0.4 s
+# is g (sin - mu cos) = 1.479 m/s^2 within 1 %, the issue's target (measured 1.472, -0.44 %: the load as N 0.4 % below
+# m g cos and the drag's lag, +0.35 %; 10 % allowed before, when it measured -8.4 %). 1.4-1.8 s each on the shared
+# machine (35-40 s each when it was loaded).
+clothsim_add_script_test(selfcontact_friction_stick self_friction_incline.sh stick 1 16 0.3)
 clothsim_add_script_test(selfcontact_friction_slide self_friction_incline.sh slide 1 25 0.3)
+# Stack: a third sheet (0.09 m) on the small one at 25 degrees; both slide together at g (sin - mu cos) within 1 %
+# (measured -0.76 % and -0.07 %; the middle sheet's contacts below must carry the top sheet's load as well: with the
+# repulsion as the normal force -7.2 % / -2.2 %, without the load sweeps, -self_collision_friction_load_sweeps 0,
+# -0.95 % / -1.36 %). 2-5 s on the shared machine.
+clothsim_add_script_test(selfcontact_friction_stack self_friction_incline.sh stack 1 25 0.3)

@@ -3,11 +3,18 @@
 # answers. A large sheet lies on a plane tilted by theta about z (its friction 1.0 holds it); a small sheet rests on
 # it, self-collision thickness 5 mm above, no damping, gravity 9.81 m/s^2, dt 1/960 s, 0.5 s, checkpoints every 0.1 s.
 #   stick: tan(theta) < mu: the small sheet's mean displacement along the slope over the 0.5 s stays below 0.5 mm
-#          (without friction it would slide 0.5 g sin(theta) t^2, 25 cm at 12 degrees);
+#          (without friction it would slide 0.5 g sin(theta) t^2, 34 cm at 16 degrees), and its creep over 0.4-0.5 s
+#          (mean velocity) is the regularised laws' (eps_v tan / sqrt(mu^2 - tan^2) on the lower sheet plus the lower
+#          sheet's eps_v tan / sqrt(1 - tan^2) on the plane) within TOL_CREEP (relative, default 0.02: measured +0.69 % at
+#          16 degrees; with the repulsion as the normal force, before 25 Nov 2026, +4.28 %);
 #   slide: tan(theta) > mu: its acceleration along the slope between 0.2 s and 0.4 s (mean velocity difference) is
-#          g (sin(theta) - mu cos(theta)) within TOL_SLIDE (relative, default 0.10: measured -8.4 % at mu 0.3 and
-#          -4.3 % at mu 0.15, 1 rank; the deficit grows with the step, -42 % at dt 1/480 s: docs/self_collision.md,
-#          "Friction between layers", says where it comes from).
+#          g (sin(theta) - mu cos(theta)) within TOL_SLIDE (relative, default 0.01, the issue's target: measured
+#          -0.44 % at mu 0.3 and -0.11 % at mu 0.15, 1 and 2 ranks; -8.4 % and -4.3 % before, when 0.10 was allowed;
+#          docs/self_collision.md, "Friction between layers").
+#
+#   stack: as slide, with a third sheet (0.09 m) resting on the small one: both slide together with that acceleration
+#          within TOL_SLIDE (measured -0.76 % and -0.07 %: the middle sheet's contacts below carry the top sheet's load
+#          too; with the repulsion as the normal force -7.2 % and -2.2 %).
 #
 #   self_friction_incline.sh CASE NP THETA_DEG MU [clothsim options...]
 #   (CLOTHSIM: the binary; KEEP=1 keeps the run's directory, printed first)
@@ -15,6 +22,7 @@ set -eu
 : "${CLOTHSIM:?set CLOTHSIM to the clothsim binary}"
 case=$1 np=$2 theta=$3 mu=$4
 shift 4
+eps=1e-4 # eps_v of both friction laws, m/s (their defaults)
 out=$(mktemp -d)
 trap '[ -n "${KEEP:-}" ] || rm -rf "$out"' EXIT
 # The plane through the origin with outward normal n = (-sin, cos, 0); the pieces' u axes run up the slope,
@@ -24,6 +32,18 @@ trap '[ -n "${KEEP:-}" ] || rm -rf "$out"' EXIT
 # other at once, and the contacts switching together (point over two triangles, parallel edges) jolted the sheet.
 read -r s c <<< "$(/usr/bin/python3 -c "import math; t = math.radians($theta); print(f'{math.sin(t):.15f} {math.cos(t):.15f}')")"
 origin() { /usr/bin/python3 -c "s, c = $s, $c; u, h, z = $1, $2, $3; print(f'[{u * c - h * s:.15f}, {u * s + h * c:.15f}, {z}]')"; }
+# stack: a third sheet (0.09 m, 7 x 7, 15 mm spacing) one thickness above the small one, on its middle
+stack_piece=""
+if [ "$case" = stack ]; then
+  stack_piece="  - name: top
+    fabric: cloth
+    grid: [7, 7]
+    size: [0.09, 0.09]
+    origin: $(origin 0.265 0.012 -0.045)
+    u_axis: [$c, $s, 0]
+    v_axis: [0, 0, 1]
+    mass: uniform"
+fi
 cat > "$out/incline.yaml" <<YAML
 name: self_incline
 gravity: [0, -9.81, 0]
@@ -46,6 +66,7 @@ pieces:
     u_axis: [$c, $s, 0]
     v_axis: [0, 0, 1]
     mass: uniform
+$stack_piece
 bodies:
   - name: slope
     type: plane
@@ -64,21 +85,22 @@ run:
 YAML
 echo "run in $out"
 mpiexec -n "$np" "$CLOTHSIM" -scene "$out/incline.yaml" -output_dir "$out/run" -output_every 0 -checkpoint_every 96 \
-  -checkpoint_keep 0 -progress_seconds 100 -self_collision_friction -self_collision_friction_coefficient "$mu" -self_collision_view "$@" > "$out/run.log" 2>&1 || { tail -20 "$out/run.log"; echo "FAIL: the run failed"; exit 1; }
+  -checkpoint_keep 0 -progress_seconds 100 -self_collision_friction -self_collision_friction_coefficient "$mu" \
+  -self_collision_friction_velocity "$eps" -collision_friction_velocity "$eps" -self_collision_view "$@" > "$out/run.log" 2>&1 || { tail -20 "$out/run.log"; echo "FAIL: the run failed"; exit 1; }
 grep -A3 "^Self-collision" "$out/run.log" || true
-/usr/bin/python3 - "$out/run" "$case" "$theta" "$mu" "${TOL_SLIDE:-0.10}" <<'PY'
+/usr/bin/python3 - "$out/run" "$case" "$theta" "$mu" "${TOL_SLIDE:-0.01}" "${TOL_CREEP:-0.02}" "$eps" <<'PY'
 import math
 import sys
 import h5py
 import numpy as np
-run, case, theta, mu, tol = sys.argv[1], sys.argv[2], *map(float, sys.argv[3:6])
+run, case, theta, mu, tol, tol_creep, eps = sys.argv[1], sys.argv[2], *map(float, sys.argv[3:8])
 t = math.radians(theta)
 down = np.array([-math.cos(t), -math.sin(t), 0.0])  # along the slope, downhill
 over = slice(21 * 11, 21 * 11 + 64)  # the small sheet's particles (natural order: piece by piece)
-def state(step):
+def state(step, sheet=over):
     with h5py.File(f"{run}/checkpoint_{step:06d}.h5", "r") as f:
-        x = f["/state/position"][:].reshape(-1, 3)[over]
-        v = f["/state/velocity"][:].reshape(-1, 3)[over]
+        x = f["/state/position"][:].reshape(-1, 3)[sheet]
+        v = f["/state/velocity"][:].reshape(-1, 3)[sheet]
     return x @ down, v @ down
 x0 = -(0.26 + 0.05) * math.cos(t) * math.cos(t) - (0.26 + 0.05) * math.sin(t) * math.sin(t) + 0.007 * 0.0
 x2, v2 = state(192)
@@ -87,15 +109,24 @@ x5, v5 = state(480)
 g = 9.81
 if case == "stick":
     moved = float(np.mean(x5)) - x0
-    print(f"stick: tan(theta) = {math.tan(t):.4f} < mu = {mu}; the sheet on top moved {moved:.3e} m along the slope in 0.5 s "
-          f"(at most 5e-4 m; frictionless: {0.5 * g * math.sin(t) * 0.25:.3f} m); end velocity {np.mean(v5):.3e} m/s")
-    ok = abs(moved) <= 5e-4
+    # the regularised law's creep u, from mu N u / sqrt(u^2 + eps^2) = F_t with F_t / N = tan(theta): the top sheet's on
+    # the lower one plus the lower sheet's on the plane (friction 1.0); by 0.4 s both have settled to it
+    tn = math.tan(t)
+    creep_exact = eps * tn / math.sqrt(mu * mu - tn * tn) + eps * tn / math.sqrt(1 - tn * tn)
+    creep = float(np.mean(x5 - x4)) / 0.1
+    print(f"stick: tan(theta) = {tn:.4f} < mu = {mu}; the sheet on top moved {moved:.3e} m along the slope in 0.5 s "
+          f"(at most 5e-4 m; frictionless: {0.5 * g * math.sin(t) * 0.25:.3f} m); creep over 0.4-0.5 s {creep:.4e} m/s, "
+          f"regularised law {creep_exact:.4e} m/s, error {100 * (creep - creep_exact) / creep_exact:+.2f} % (at most {100 * tol_creep:g} %)")
+    ok = abs(moved) <= 5e-4 and abs(creep - creep_exact) <= tol_creep * creep_exact
 else:
-    a = float(np.mean(v4 - v2)) / 0.2
     exact = g * (math.sin(t) - mu * math.cos(t))
-    print(f"slide: tan(theta) = {math.tan(t):.4f} > mu = {mu}; acceleration {a:.5f} m/s^2, analytic g (sin - mu cos) = {exact:.5f} m/s^2, "
-          f"error {100 * (a - exact) / exact:+.3f} % (at most {100 * tol:g} %)")
-    ok = abs(a - exact) <= tol * exact
+    ok = True
+    # stack: the two upper sheets slide together, at the same analytic acceleration (the middle one carries both)
+    for name, sheet in [("", over)] + ([("top ", slice(21 * 11 + 64, 21 * 11 + 64 + 49))] if case == "stack" else []):
+        a = float(np.mean(state(384, sheet)[1] - state(192, sheet)[1])) / 0.2
+        print(f"{case}: {name}tan(theta) = {math.tan(t):.4f} > mu = {mu}; acceleration {a:.5f} m/s^2, analytic g (sin - mu cos) = {exact:.5f} m/s^2, "
+              f"error {100 * (a - exact) / exact:+.3f} % (at most {100 * tol:g} %)")
+        ok = ok and abs(a - exact) <= tol * exact
 print("self_friction_incline:", "passed" if ok else "FAILED")
 sys.exit(0 if ok else 1)
 PY
