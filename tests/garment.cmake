@@ -23,7 +23,8 @@ add_test(NAME hem_folds_self_test COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/p
 # (a particle's strain up to 0.51 for one frame), and from then on every target held (docs/results.md, "The fitted
 # dress"). Measured 2026-11-25 at 3 s (this test): 200/200 sewn, 0.13 mm, 0 inside, 0 crossings, strain 0.017,
 # 3.2e-5 J, 296 Krylov its/step (221,811 in 750 steps); 384 s wall on the shared machine at a load of about 10. Not
-# measured idle: the 5 s run used 126-130 s of CPU time per rank for 340,828 iterations, so this one about 85 s.
+# measured idle; from the CPU time per rank of two runs under load (0.29 ms per Krylov iteration at a load of 4-7,
+# 0.37 ms at 5-11) about 65-85 s.
 clothsim_add_script_test(garment_dress_fitted_coarse garment_coarse.sh input/dress_fitted_coarse.yaml)
 set_tests_properties(garment_dress_fitted_coarse PROPERTIES TIMEOUT 1200 LABELS garment)
 set_property(TEST garment_dress_fitted_coarse APPEND PROPERTY ENVIRONMENT "CLOTHSIM_OPTIONS=-t_final 3 -cloth_stiffness gauss_newton")
