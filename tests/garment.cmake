@@ -26,5 +26,8 @@ add_test(NAME hem_folds_self_test COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/p
 # measured idle; from the CPU time per rank of two runs under load (0.29 ms per Krylov iteration at a load of 4-7,
 # 0.37 ms at 5-11) about 65-85 s.
 clothsim_add_script_test(garment_dress_fitted_coarse garment_coarse.sh input/dress_fitted_coarse.yaml)
-set_tests_properties(garment_dress_fitted_coarse PROPERTIES TIMEOUT 1200 LABELS garment)
+# Its timeout is 3000 s, not the 1200 s of the other garment tests: in a full ctest -j2 on the shared machine
+# (another helper's ctest running too, load about 10) it ran out of 1200 s alone with garment_dress_coarse
+# taking 932 s (36 s quiet); the timeout guards against a hung run, it does not time the test.
+set_tests_properties(garment_dress_fitted_coarse PROPERTIES TIMEOUT 3000 LABELS garment)
 set_property(TEST garment_dress_fitted_coarse APPEND PROPERTY ENVIRONMENT "CLOTHSIM_OPTIONS=-t_final 3 -cloth_stiffness gauss_newton")
