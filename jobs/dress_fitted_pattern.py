@@ -22,7 +22,8 @@ scene: reads the pieces back from that DXF (postprocess/pattern_dxf.py import, s
 holds), gives each a grid of about H between particles, places it around the mannequin (bodice panels rolled
 onto a cylinder around the torso, skirt panels onto a cone, straps over the shoulders) and writes the seams:
 the six vertical bodice seams (four princess, two side), the skirt's two side seams, six waist seams (each
-skirt panel's waist to the three bodice panels above it, by arc length) and the straps' four ends."""
+skirt panel's waist to the three bodice panels above it, by arc length, the skirt node at each junction sewn to
+both panels) and the straps' four ends (onto whole cells of the side panels' tops, which are divided for it)."""
 import argparse
 import math
 import os
@@ -118,6 +119,22 @@ def grid(b, h):
     return [nu, nv]
 
 
+def strap_cells(h):
+    """Cells of a side panel's top a strap's end spans: about h wide each."""
+    return max(1, round(STRAP[0] / h))
+
+
+def bodice_grid(name, b, h):
+    """grid(), except that a side panel's top is divided so that a strap's end (STRAP[0] wide) spans a whole
+    number of its cells: a seam joins whole stretches between nodes, so a strap sewn onto a stretch of other
+    length is eased onto it (the coarse dress's side panels were stretched 10 % at the top, 54 mm of strap on
+    43 mm of bodice)."""
+    nu, nv = grid(b, h)
+    if name.startswith("side"):
+        nu = max(4, round(strap_cells(h) * length(b["top"]) / STRAP[0])) + 1
+    return [nu, nv]
+
+
 def vec(x):
     return [round(float(c), 9) for c in x]
 
@@ -137,7 +154,7 @@ def scene(args):
         u = np.array([math.cos(angle), 0.0, -math.sin(angle)])
         touch = np.array([0.0, WAIST_Y, AXIS_Z]) + BODICE_RADIUS * n
         centre_u = 0.5 * (b["bottom"][0][0] + b["bottom"][-1][0])
-        pieces.append({"name": name, "fabric": "poplin", "grid": grid(b, h), "boundaries": b, "origin": vec(touch - centre_u * u),
+        pieces.append({"name": name, "fabric": "poplin", "grid": bodice_grid(name, b, h), "boundaries": b, "origin": vec(touch - centre_u * u),
                        "u_axis": vec(u), "v_axis": [0, 1, 0], "wrap": {"axis_point": [0, 0, AXIS_Z], "axis": [0, 1, 0]}})
     for name, angle in (("skirt_front", 0.0), ("skirt_back", math.pi)):
         b = pat[name]
@@ -169,18 +186,32 @@ def scene(args):
         seams.append({"name": f"{name}_to_{nxt}", "a": {"piece": name, "side": "right"}, "b": {"piece": nxt, "side": "left"}})
     seams.append({"name": "skirt_side_right", "a": {"piece": "skirt_front", "side": "right"}, "b": {"piece": "skirt_back", "side": "left"}})
     seams.append({"name": "skirt_side_left", "a": {"piece": "skirt_back", "side": "right"}, "b": {"piece": "skirt_front", "side": "left"}})
+    # Each waist seam takes the skirt's top nodes within its share of the waist (by the bodice panels' widths).
+    # Where two panels meet, the skirt node nearest to the junction must belong to both seams, so that it is
+    # sewn to both panels' corners (which the princess or side seam sews together): otherwise one seam ends a
+    # node short and the junction pulls two skirt nodes a cell apart onto one point (the coarse dress's 2.6 mm
+    # gaps). So the junction is moved to that node and each seam's stretch reaches a quarter cell past it
+    # (a node is selected by its arc-length fraction, which is k / (nu - 1) only to the polyline's accuracy).
     for skirt, above in (("skirt_front", ("side_front_left", "centre_front", "side_front_right")), ("skirt_back", ("side_back_right", "centre_back", "side_back_left"))):
+        cells = grid(pat[skirt], h)[0] - 1
         total = sum(width[p][0] for p in above)
-        start = 0.0
+        junctions = [0.0]
         for p in above:
-            end = start + width[p][0] / total
-            seams.append({"name": f"waist_{p}", "a": {"piece": skirt, "side": "top", "from": round(start, 6), "to": round(min(end, 1.0), 6)}, "b": {"piece": p, "side": "bottom"}, "bend": False})
-            start = end
-    # a strap's end at arc d from the centre front (back) lies on the side panel's top at fraction (d - centre/2) / side
+            junctions.append(junctions[-1] + width[p][0] / total)
+        nodes = [round(f * cells) for f in junctions]
+        for p, lo, hi in zip(above, nodes[:-1], nodes[1:]):
+            start, end = max(0.0, (lo - 0.25) / cells), min(1.0, (hi + 0.25) / cells)
+            seams.append({"name": f"waist_{p}", "a": {"piece": skirt, "side": "top", "from": round(start, 6), "to": round(end, 6)}, "b": {"piece": p, "side": "bottom"}, "bend": False})
+    # a strap's end at arc d from the centre front (back) lies on the side panel's top at fraction (d - centre/2) / side;
+    # it is sewn onto the strap_cells() cells from the node nearest to its first edge, each stretch reaching a quarter
+    # cell past its end nodes (as the waist seams')
     centre_top, side_top = width["centre_front"][1], width["side_front_right"][1]
-    f = [(d - 0.5 * centre_top) / side_top for d in STRAP_ARC]
-    if not 0 < f[0] < f[1] < 1:
+    cells = bodice_grid("side", pat["side_front_right"], h)[0] - 1
+    first = round((STRAP_ARC[0] - 0.5 * centre_top) / side_top * cells)
+    last = first + strap_cells(h)
+    if not 0 < first < last < cells:
         sys.exit(f"dress_fitted_pattern: the straps (arc {STRAP_ARC} m from the centre) miss the side panels' tops")
+    f = [(first - 0.25) / cells, (last + 0.25) / cells]
     fr = lambda x: round(x, 6)  # noqa: E731
     seams += [
         {"name": "shoulder_right_front", "a": {"piece": "strap_right", "side": "bottom"}, "b": {"piece": "side_front_right", "side": "top", "from": fr(f[0]), "to": fr(f[1])}},
