@@ -22,9 +22,8 @@ add_test(NAME hem_folds_self_test COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/p
 # of 5 s: in the 5 s run the left strap's front end, folded on itself, was kicked now and then until t = 2.7 s
 # (a particle's strain up to 0.51 for one frame), and from then on every target held (docs/results.md, "The fitted
 # dress"). Measured 2026-11-25 at 3 s (this test): 200/200 sewn, 0.13 mm, 0 inside, 0 crossings, strain 0.017,
-# 3.2e-5 J, 296 Krylov its/step (221,811 in 750 steps); 384 s wall on the shared machine at a load of about 10. Not
-# measured idle; from the CPU time per rank of two runs under load (0.29 ms per Krylov iteration at a load of 4-7,
-# 0.37 ms at 5-11) about 65-85 s.
+# 3.2e-5 J, 296 Krylov its/step (221,811 in 750 steps); 384 s wall on the shared machine at a load of about 10, 71 s
+# in the CI run of a fresh clone on the idle machine (2026-11-26, ctest -j2 of the whole suite).
 clothsim_add_script_test(garment_dress_fitted_coarse garment_coarse.sh input/dress_fitted_coarse.yaml)
 # Its timeout is 3000 s, not the 1200 s of the other garment tests: in a full ctest -j2 on the shared machine
 # (another helper's ctest running too, load about 10) it ran out of 1200 s alone with garment_dress_coarse
