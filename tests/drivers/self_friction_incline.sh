@@ -32,40 +32,23 @@ trap '[ -n "${KEEP:-}" ] || rm -rf "$out"' EXIT
 # other at once, and the contacts switching together (point over two triangles, parallel edges) jolted the sheet.
 read -r s c <<< "$(/usr/bin/python3 -c "import math; t = math.radians($theta); print(f'{math.sin(t):.15f} {math.cos(t):.15f}')")"
 origin() { /usr/bin/python3 -c "s, c = $s, $c; u, h, z = $1, $2, $3; print(f'[{u * c - h * s:.15f}, {u * s + h * c:.15f}, {z}]')"; }
+# A piece of the scene: piece NAME NU NV SIDE U H Z (a square of SIDE m, its corner U up the slope and H above the
+# plane, at z = Z), lying on the slope.
+piece() {
+  printf '  - name: %s\n    fabric: cloth\n    grid: [%s, %s]\n    size: [%s, %s]\n    origin: %s\n    u_axis: [%s, %s, 0]\n    v_axis: [0, 0, 1]\n    mass: uniform\n' \
+    "$1" "$2" "$3" "$4" "$5" "$(origin "$6" "$7" "$8")" "$c" "$s"
+}
 # stack: a third sheet (0.09 m, 7 x 7, 15 mm spacing) one thickness above the small one, on its middle
 stack_piece=""
-if [ "$case" = stack ]; then
-  stack_piece="  - name: top
-    fabric: cloth
-    grid: [7, 7]
-    size: [0.09, 0.09]
-    origin: $(origin 0.265 0.012 -0.045)
-    u_axis: [$c, $s, 0]
-    v_axis: [0, 0, 1]
-    mass: uniform"
-fi
+[ "$case" = stack ] && stack_piece=$(piece top 7 7 0.09 0.09 0.265 0.012 -0.045)
 cat > "$out/incline.yaml" <<YAML
 name: self_incline
 gravity: [0, -9.81, 0]
 fabrics:
   cloth: {density: 0.15, stretch: 1000, shear: 500, bend: 2, damping: 0}
 pieces:
-  - name: under
-    fabric: cloth
-    grid: [21, 11]
-    size: [0.4, 0.2]
-    origin: $(origin 0 0.002 -0.1)
-    u_axis: [$c, $s, 0]
-    v_axis: [0, 0, 1]
-    mass: uniform
-  - name: over
-    fabric: cloth
-    grid: [8, 8]
-    size: [0.1, 0.1]
-    origin: $(origin 0.26 0.007 -0.05)
-    u_axis: [$c, $s, 0]
-    v_axis: [0, 0, 1]
-    mass: uniform
+$(piece under 21 11 0.4 0.2 0 0.002 -0.1)
+$(piece over 8 8 0.1 0.1 0.26 0.007 -0.05)
 $stack_piece
 bodies:
   - name: slope
