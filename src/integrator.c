@@ -31,6 +31,7 @@ struct _n_ClothIntegrator {
   PetscInt            pc_fallbacks;                /* solves redone with fallback_ksp */
   char                failure[256];                /* why the last failed (sub-)step failed */
   PetscInt            pc_retries;                  /* solves redone after a rebuild of a preconditioner kept from earlier steps */
+  PetscInt            max_it;                      /* the Krylov solve's iteration limit (-ksp_max_it) */
 };
 
 /* Is every entry of v finite? Collective. */
@@ -159,29 +160,34 @@ static PetscErrorCode SolveFromGuess(ClothIntegrator integ, KSP ksp, KSPConverge
 }
 
 /* Solves A dv = rhs from the warm start in dv, A of step size h at positions x. A preconditioner lagged from earlier
-   steps may not fit a matrix that changed abruptly (a contact, a halved step): a failed solve is then redone once
-   with the preconditioner rebuilt. An incomplete factorisation can break down (a non-positive pivot:
-   DIVERGED_INDEFINITE_PC) on a matrix that is itself positive definite; then the step is solved again by the
-   fallback solver rather than halved. */
+   steps may not fit a matrix that changed abruptly (a contact, a halved step, a sheet folding): its solve is stopped
+   once the lag has cost more than a refresh saves (ClothPreconditionerIterationLimit; limited by -ksp_max_it alone,
+   a step of a 1025 x 1025 sheet was still solving after 20 minutes) and redone once with the preconditioner
+   rebuilt. An incomplete factorisation can break down (a non-positive pivot: DIVERGED_INDEFINITE_PC) on a matrix
+   that is itself positive definite; then the step is solved again by the fallback solver rather than halved. */
 static PetscErrorCode SolveImplicitSystem(ClothIntegrator integ, Vec x, PetscReal h, KSPConvergedReason *reason, PetscInt *its)
 {
   ClothPCUpdate update;
   PetscBool     kept;
-  PetscInt      last_its = 0;
+  PetscInt      last_its = 0, limit;
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(ClothLog.solve, 0, 0, 0, 0));
   *its = 0;
   PetscCall(VecCopy(integ->dv, integ->dv_guess));
   PetscCall(ClothPreconditionerPrepare(integ->pre, integ->A, x, h, &update));
+  PetscCall(ClothPreconditionerIterationLimit(integ->pre, integ->max_it, &limit));
+  PetscCall(KSPSetTolerances(integ->ksp, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT, limit));
   PetscCall(SolveFromGuess(integ, integ->ksp, reason, &last_its));
   PetscCall(ClothPreconditionerIsKept(integ->pre, &kept));
   if (*reason < 0 && kept && update != CLOTH_PC_REBUILD) {
-    PetscCall(PetscInfo(NULL, "Solve with a preconditioner of earlier steps failed (%s); rebuilding it\n", KSPConvergedReasons[*reason]));
+    PetscCall(PetscInfo(NULL, "Solve with a preconditioner of earlier steps failed (%s after %" PetscInt_FMT " iterations); rebuilding it\n", KSPConvergedReasons[*reason], last_its));
+    PetscCall(ClothPreconditionerSolved(integ->pre, last_its)); /* a lag cut short by its limit pauses lagging */
     *its     = last_its;
     last_its = 0;
     PetscCall(ClothPreconditionerRequestRebuild(integ->pre));
     PetscCall(ClothPreconditionerPrepare(integ->pre, integ->A, x, h, NULL));
+    PetscCall(KSPSetTolerances(integ->ksp, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT, integ->max_it));
     PetscCall(SolveFromGuess(integ, integ->ksp, reason, &last_its));
     integ->pc_retries++;
   }
@@ -317,6 +323,7 @@ static PetscErrorCode ClothIntegratorSetUpImplicit(ClothIntegrator integ)
   PetscCall(KSPSetTolerances(integ->ksp, PETSC_DEFAULT, 1e-50, PETSC_DEFAULT, CLOTH_KRYLOV_MAX_IT));
   PetscCall(KSPSetInitialGuessNonzero(integ->ksp, PETSC_TRUE)); /* dv of the last step: a good guess */
   PetscCall(KSPSetFromOptions(integ->ksp));
+  PetscCall(KSPGetTolerances(integ->ksp, NULL, NULL, NULL, &integ->max_it));
   PetscCall(ClothPreconditionerSetFromOptions(integ->pre));
   PetscCall(CreateFallbackKSP(integ)); /* at set-up, so that -help lists its -fallback_ options */
   PetscCall(VecZeroEntries(integ->dv));

@@ -392,6 +392,14 @@ static PetscBool SlowerThan(PetscInt its, PetscReal ratio, PetscInt reference)
   return its > CLOTH_PC_MIN_ITERATIONS && its > ratio * PetscMax(reference, 1) ? PETSC_TRUE : PETSC_FALSE;
 }
 
+PetscErrorCode ClothPreconditionerIterationLimit(ClothPreconditioner pre, PetscInt max_it, PetscInt *limit)
+{
+  PetscFunctionBeginUser;
+  *limit = max_it;
+  if (pre->kept && pre->last == CLOTH_PC_LAG) *limit = PetscMin(max_it, PetscMax(pre->its_refreshed, CLOTH_PC_MIN_ITERATIONS) + pre->lag_excess + 1);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode ClothPreconditionerSolved(ClothPreconditioner pre, PetscInt its)
 {
   PetscFunctionBeginUser;

@@ -44,6 +44,11 @@ PetscErrorCode ClothPreconditionerSetFromOptions(ClothPreconditioner pre);
 /* Before a solve with A at step size h and particle positions x (solver numbering, block size 3 layout of A):
    sets the operators of the KSP and lags, refreshes or rebuilds its preconditioner. */
 PetscErrorCode ClothPreconditionerPrepare(ClothPreconditioner pre, Mat A, Vec x, PetscReal h, ClothPCUpdate *update);
+/* The iteration limit of the solve after Prepare: max_it, or, for a lagged preconditioner, one more than the iterations of
+   the last refreshed solve plus -implicit_pc_lag_excess. Past that count the lag has cost more than a refresh saves
+   (the excess rule of ClothPreconditionerSolved), so a hierarchy that no longer fits the matrix is given up there, not
+   after max_it iterations; the caller then solves again with it rebuilt. */
+PetscErrorCode ClothPreconditionerIterationLimit(ClothPreconditioner pre, PetscInt max_it, PetscInt *limit);
 /* After a solve that took its iterations: decides what the next Prepare does. */
 PetscErrorCode ClothPreconditionerSolved(ClothPreconditioner pre, PetscInt its);
 /* The next Prepare rebuilds everything (after a failed solve; at a checkpoint, so that a restart from it sees the

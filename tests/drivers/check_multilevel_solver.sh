@@ -10,6 +10,10 @@
 # 4. A restart from a checkpoint continues bit for bit (the hierarchy is rebuilt at every checkpoint, as a restart
 #    rebuilds it), with the coarse levels lagged over steps (-implicit_pc_lag_ratio 1.2, the default): the 65 x 65 runs
 #    must have lagged steps (measured: mg 3 rebuilt, 2 refreshed, 19 lagged; GAMG 3, 4, 17), so that the restart covers them.
+# 5. A lagged solve is stopped at its limit (ClothPreconditionerIterationLimit: the last refreshed solve's iterations
+#    + -implicit_pc_lag_excess + 1) and redone with the preconditioner rebuilt: with -implicit_pc_lag_excess 0 and
+#    lagging otherwise unlimited, some solves must be redone, and the run must still end within 1e-8 m of point-block
+#    Jacobi at rtol 1e-9.
 # Usage: check_multilevel_solver.sh MPIEXEC WORKDIR      (CLOTHSIM: the binary)
 set -euo pipefail
 mpiexec=$1 work=$2
@@ -60,6 +64,12 @@ run default_65 -grid 65 -ksp_rtol 1e-9 -pc_type pbjacobi
 uses mg_129 mg
 same_answer mg_65_tight default_65
 same_answer gamg_65_tight default_65
+
+run mg_65_limited -grid 65 -pc_type mg -ksp_rtol 1e-9 -implicit_pc_lag_excess 0 -implicit_pc_lag_ratio 100 -implicit_pc_lag_max 1000 -integrator_view
+redone=$(sed -n 's/^ *Solves redone with a rebuilt preconditioner.*: \([0-9]*\)$/\1/p' "$work/mg_65_limited.log")
+echo "lagged solves stopped at their limit and redone: ${redone:-0} ($(grep -o '[0-9]* rebuilt.*lagged' "$work/mg_65_limited.log"))"
+[ -n "$redone" ] && [ "$redone" -gt 0 ] || fail "no lagged solve was stopped at its limit with -implicit_pc_lag_excess 0"
+same_answer mg_65_limited default_65
 
 one_step() { # one_step NAME SCENE OPTIONS...
   local name=$1 scene=$2
