@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Writes the T-shirt scenes: input/tshirt.yaml (a T-shirt with set-in sleeves on the mannequin) and
-input/tshirt_dress.yaml (that T-shirt under the main job's dress, both sewn in one run).
+input/tshirt_dress.yaml (that T-shirt under the main job's dress, graded to go over it, both sewn in one run).
 
   /usr/bin/python3 scripts/tshirt_scenes.py            (from the repository's root)
 
@@ -229,7 +229,8 @@ def main():
     both["seams"] = shirt["seams"] + dress["seams"]
     both["sewing"] = dict(shirt["sewing"], pull_acceleration=LAYERED_PULL)
     write(os.path.join(ROOT, "input", "tshirt_dress.yaml"), both,
-          "# Layering: the T-shirt of input/tshirt.yaml under the dress of input/dress.yaml, both sewn in one run;\n"
+          "# Layering: the T-shirt of input/tshirt.yaml under the dress of input/dress.yaml (one size up, deeper\n"
+          "# armholes, to go over the T-shirt), both sewn in one run;\n"
           "# cloth-cloth contact (self_collision, over all pieces of both) keeps the layers apart.\n" + doc +
           "#   mpiexec -n 2 build/clothsim -scene input/tshirt_dress.yaml\n")
 
