@@ -41,4 +41,7 @@ set_property(TEST garment_dress_fitted_coarse APPEND PROPERTY ENVIRONMENT "CLOTH
 # (docs/results.md, "Layering"): the straps through the T-shirt's back (18 crossings, strain 0.30) at a pull of
 # 1000 m/s^2, the skirt's hems crossed (15) at 300, side seams held open by the T-shirt's folds or its sleeves.
 clothsim_add_script_test(garment_layered_coarse garment_coarse.sh input/tshirt_dress.yaml "25 25=13 13" "21 9=11 5" "26 11=26 6" "4 32=4 16" "33 25=17 13")
-set_tests_properties(garment_layered_coarse PROPERTIES TIMEOUT 1200 LABELS garment)
+# Its timeout is 3000 s, as the fitted dress's: in a full ctest -j2 on the shared machine (three other helpers' runs
+# and test suites, load about 20) it ran out of 1200 s at t = 1.84 s of 2.5, with garment_dress_coarse out of
+# 1200 s beside it (36 s quiet); the timeout guards against a hung run, it does not time the test.
+set_tests_properties(garment_layered_coarse PROPERTIES TIMEOUT 3000 LABELS garment)
