@@ -14,6 +14,12 @@ particle: an edge and a triangle that meet at a sewn point are the seam itself, 
 piece meet at their shared particle; the simulation's contact exclusion (src/sewing.h) is the same
 relation. `fabric_crossings_unjoined` is the count without this, for reference.
 
+A run may sew several garments at once (a T-shirt under a dress): a garment is a set of pieces joined by
+seams (the pieces in fit_maps, in scene order, whose particles seam_links join, and the pieces joined to
+those). `garments` lists each one's pieces and its own crossings (edge and triangle both in it), and
+`fabric_crossings_between_garments` counts the crossings of an edge of one garment through a triangle of
+another: fabric_crossings is their sum.
+
 With --check it also exits non-zero unless the garment meets the targets of issue 8: every seam closed
 (max_seam_gap_m < 0.002, all pairs sewn), no particle inside the body, no fabric crossing, max_link_strain
 < 0.10 and kinetic_energy_j below --ke-max (default 1e-3 J: at rest); and unless the summary of the fit maps
@@ -53,6 +59,44 @@ def joined_pairs(seam_links, n):
         reach.discard(a)
         codes.update(a * n + b for b in reach)
     return np.array(sorted(codes), dtype=np.int64)
+
+
+def garment_of_particles(fit_maps, seam_links):
+    """The pieces of each garment (pieces joined by seams, in scene order) and each particle's garment number;
+    None without fit_maps (no piece sizes)."""
+    sizes = [summary["particles"] for summary in fit_maps.values()]
+    if not sizes:
+        return None, None
+    piece = np.repeat(np.arange(len(sizes)), sizes)
+    root = list(range(len(sizes)))
+
+    def find(i):
+        while root[i] != i:
+            i = root[i]
+        return i
+
+    for link in seam_links:
+        for other in link[1:]:
+            a, b = find(int(piece[link[0]])), find(int(piece[other]))
+            root[max(a, b)] = min(a, b)
+    roots = sorted({find(i) for i in range(len(sizes))})
+    names = list(fit_maps)
+    pieces = [[names[i] for i in range(len(sizes)) if find(i) == r] for r in roots]
+    number = np.array([roots.index(find(i)) for i in range(len(sizes))])
+    return pieces, number[piece]
+
+
+def crossings_by_garment(hits, pieces, garment):
+    """The garments' records (pieces, their own crossings) and the number of crossings between garments."""
+    own = collections.Counter()
+    between = 0
+    for edge, tri in hits:
+        a, b = garment[edge[0]], garment[tri[0]]
+        if a == b:
+            own[a] += 1
+        else:
+            between += 1
+    return [{"pieces": names, "fabric_crossings": own[g]} for g, names in enumerate(pieces)], between
 
 
 def last_frame_crossings(h5path, seam_links=(), examples=0):
@@ -131,8 +175,12 @@ def main():
     with open(qpath) as f:
         quality = json.load(f)
     h5path = os.path.join(args.output_dir, args.name + ".h5")
-    count, unjoined, frame, hits, strain = last_frame_crossings(h5path, quality.get("seam_links", ()), 10**9 if args.worst else 0)
+    pieces, garment = garment_of_particles(quality.get("fit_maps", {}), quality.get("seam_links", ()))
+    listed = 10**9 if args.worst or pieces else 0
+    count, unjoined, frame, hits, strain = last_frame_crossings(h5path, quality.get("seam_links", ()), listed)
     quality["fabric_crossings"], quality["fabric_crossings_unjoined"] = count, unjoined
+    if pieces:
+        quality["garments"], quality["fabric_crossings_between_garments"] = crossings_by_garment(hits, pieces, garment)
     with open(qpath, "w") as f:
         f.write(quality_json(quality) + "\n")
     print(json.dumps({key: value for key, value in quality.items() if key != "seam_links"}, indent=2))

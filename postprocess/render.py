@@ -45,9 +45,11 @@ FIT_MAPS = {  # field: colour bar title
     "stress": "stress, N/m",
     "pressure": "pressure on the body, N/m^2",
 }
-# Fabric colours of --color-by piece, one per pattern piece in turn: muted dyed cottons.
+# Fabric colours of --color-by piece, one per pattern piece in turn: muted dyed cottons. Twelve, so that the 10
+# pieces of the T-shirt under the dress (input/tshirt_dress.yaml) are all told apart.
 FABRIC_COLOURS = [(0.62, 0.16, 0.20), (0.18, 0.32, 0.55), (0.80, 0.62, 0.30), (0.25, 0.48, 0.36),
-                  (0.50, 0.30, 0.55), (0.85, 0.45, 0.35), (0.35, 0.55, 0.70), (0.55, 0.50, 0.40)]
+                  (0.50, 0.30, 0.55), (0.85, 0.45, 0.35), (0.35, 0.55, 0.70), (0.55, 0.50, 0.40),
+                  (0.45, 0.50, 0.20), (0.15, 0.48, 0.50), (0.70, 0.55, 0.65), (0.30, 0.30, 0.36)]
 
 
 def parse_args(argv):

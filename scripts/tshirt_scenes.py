@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Writes the T-shirt scenes: input/tshirt.yaml (a T-shirt with set-in sleeves on the mannequin) and
-input/tshirt_dress.yaml (that T-shirt under the main job's dress, both sewn in one run).
+input/tshirt_dress.yaml (that T-shirt under the main job's dress, graded to go over it, both sewn in one run).
 
   /usr/bin/python3 scripts/tshirt_scenes.py            (from the repository's root)
 
@@ -24,7 +24,12 @@ on), the sleeve's middle on the top of the arm and its underarm edges 0.09 m dow
 the torso. In tshirt_dress.yaml the dress's pieces are placed outside the T-shirt's: the bodice on a cylinder
 of radius 0.22 m (0.20 in input/dress.yaml), the straps arched at 0.28 m (0.20) and the skirt panels on a
 cone of half-angle asin(0.375) (asin(0.2787)) with its waist at y = 0.24, so that no piece starts through
-another; the dress's pattern (outlines, grids, seams) is input/dress.yaml's.
+another. The dress is input/dress.yaml's (grids, seams, straps) made to be worn over the T-shirt, as a
+pinafore is: one size up (the bodice's and the skirt's widths times 1.15: 0.97 m round at the waist, 1.04 m
+at the top, against the T-shirt's 0.92 m; input/dress.yaml's 0.84-0.90 m bodice held 8 cm of T-shirt in folds
+that stood between its side seams' edges, 54 mm open) and its armholes cut 5 cm deeper at the side seams (with
+input/dress.yaml's straight top the side seams' top corners met the T-shirt's sleeves under the arms: sewn,
+they were torn 63 mm apart again by the sleeve between them).
 """
 import math
 import os
@@ -42,6 +47,12 @@ BODY_RADIUS, BODY_AXIS_Z = 0.19, 0.05
 SLEEVE_ROUND, EASE, UNDERARM, SLEEVE_RADIUS, UNDERARM_T = 0.40, 1.05, 0.06, 0.075, 0.09
 SHOULDER_POINT, ELBOW = np.array([-0.17, 0.52, 0.0]), np.array([-0.30, 0.36, 0.03])
 GRIDS = {"body": [25, 25], "sleeve": [21, 9]}
+# The dress over the T-shirt: one size up (every width of the bodice and the skirt times DRESS_GRADE), its
+# armholes cut ARMHOLE_DROP deeper at the side seams, its bodice's hem (and the skirt's waist) at DRESS_WAIST_Y.
+DRESS_GRADE, ARMHOLE_DROP, DRESS_WAIST_Y = 1.15, 0.05, 0.24
+# The layered scene's pull (m/s^2; the T-shirt's alone is 1000): at 1000 the straps, flung down over the T-shirt's
+# back, passed through it in the first 0.06 s.
+LAYERED_PULL = 500
 
 
 def polyline_length(points):
@@ -138,15 +149,34 @@ def tshirt():
     }
 
 
+def deeper_armholes(outline):
+    """A bodice's outline with its top ARMHOLE_DROP lower at both side seams: the side seams shortened, the top
+    curving down to them from the inner 3/4 of its width, where the straps are sewn."""
+    (u0, v0), (u1, _) = outline["left"][-1], outline["right"][-1]
+    top_v = v0 - ARMHOLE_DROP
+    scale = top_v / v0
+    left_end, right_end = [outline["left"][0][0] + scale * (u0 - outline["left"][0][0]), top_v], \
+        [outline["right"][0][0] + scale * (u1 - outline["right"][0][0]), top_v]
+    width = u1 - u0
+    curve = [[u0 + width * f, v0 - ARMHOLE_DROP * (1 - f / 0.15) ** 2] for f in (0.0375, 0.075, 0.1125, 0.15)]
+    top = [left_end] + curve + [[u1 - (u - u0), v] for u, v in reversed(curve)] + [right_end]
+    return dict(outline, left=[outline["left"][0], left_end], right=[outline["right"][0], right_end], top=top)
+
+
 def dress_outside(dress):
     """input/dress.yaml's pieces placed outside the T-shirt's (see the module's docstring)."""
     bodice_radius, strap_radius, sin_alpha = 0.22, 0.28, 0.375
     cos_alpha = math.sqrt(1 - sin_alpha**2)
-    apex_y = 0.24 + 0.6 * cos_alpha  # the skirt's waist 0.6 m (slant) from its apex, at y = 0.24 as the bodice's hem
+    apex_y = DRESS_WAIST_Y + 0.6 * cos_alpha  # the skirt's waist 0.6 m (slant) from its apex, at the bodice's hem
     for p in dress["pieces"]:
         front = p["name"].endswith("front")
+        if not p["name"].startswith("strap"):
+            p["boundaries"] = {side: [[DRESS_GRADE * u, v] for u, v in line] for side, line in p["boundaries"].items()}
         if p["name"].startswith("bodice"):
-            p["origin"] = [-0.21 if front else 0.21, 0.24, BODY_AXIS_Z + (bodice_radius if front else -bodice_radius)]
+            p["boundaries"] = deeper_armholes(p["boundaries"])
+        half = 0.21 * DRESS_GRADE
+        if p["name"].startswith("bodice"):
+            p["origin"] = [-half if front else half, DRESS_WAIST_Y, BODY_AXIS_Z + (bodice_radius if front else -bodice_radius)]
             p["wrap"] = {"axis_point": [0, 0, BODY_AXIS_Z], "axis": [0, 1, 0]}
         elif p["name"].startswith("strap"):
             p["origin"] = [p["origin"][0], 0.40 + strap_radius, BODY_AXIS_Z + 0.27]
@@ -154,7 +184,7 @@ def dress_outside(dress):
         elif p["name"].startswith("skirt"):
             s = -1 if front else 1
             p["v_axis"] = rounded([0, cos_alpha, s * sin_alpha])
-            p["origin"] = rounded([-0.42 if front else 0.42, apex_y - 1.2 * cos_alpha, BODY_AXIS_Z - 1.2 * s * sin_alpha])
+            p["origin"] = rounded([-2 * half if front else 2 * half, apex_y - 1.2 * cos_alpha, BODY_AXIS_Z - 1.2 * s * sin_alpha])
             p["wrap"] = {"apex": rounded([0, apex_y, BODY_AXIS_Z]), "axis": [0, -1, 0]}
     return dress
 
@@ -197,8 +227,10 @@ def main():
     both["fabrics"] = dict(shirt["fabrics"], **dress["fabrics"])
     both["pieces"] = shirt["pieces"] + dress["pieces"]
     both["seams"] = shirt["seams"] + dress["seams"]
+    both["sewing"] = dict(shirt["sewing"], pull_acceleration=LAYERED_PULL)
     write(os.path.join(ROOT, "input", "tshirt_dress.yaml"), both,
-          "# Layering: the T-shirt of input/tshirt.yaml under the dress of input/dress.yaml, both sewn in one run;\n"
+          "# Layering: the T-shirt of input/tshirt.yaml under the dress of input/dress.yaml (one size up, deeper\n"
+          "# armholes, to go over the T-shirt), both sewn in one run;\n"
           "# cloth-cloth contact (self_collision, over all pieces of both) keeps the layers apart.\n" + doc +
           "#   mpiexec -n 2 build/clothsim -scene input/tshirt_dress.yaml\n")
 
