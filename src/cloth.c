@@ -2,6 +2,13 @@
 #include "cloth_impl.h"
 #include "log.h"
 #include "options.h"
+#include "hysteresis.h"
+#include "seam_links.h"
+
+/* The model's forces that plug in as contributions (docs/architecture.md, "Adding a force"): each registers itself
+   at set-up, also when the model has none of its elements (then it adds nothing). Hysteresis first: its friction
+   elements were summed with the angle springs, before the seam links. */
+static PetscErrorCode (*const ClothModelContributions[])(Cloth) = {ClothHysteresisRegister, ClothSeamLinksRegister};
 
 PetscErrorCode ClothCreate(MPI_Comm comm, Scene scene, Cloth *cloth)
 {
@@ -25,7 +32,8 @@ PetscErrorCode ClothSetFromOptions(Cloth cloth)
 {
   PetscFunctionBeginUser;
   PetscOptionsBegin(cloth->comm, NULL, "Cloth distribution", "Cloth");
-  PetscCall(PetscOptionsEnum("-cloth_partition", "How particles are split across ranks: metis (METIS on rank 0), block (natural order), ptscotch or parmetis (PETSc MatPartitioning on all ranks; parmetis if PETSc has it)", "ClothSetUp", ClothPartitionTypes, (PetscEnum)cloth->partition_type, (PetscEnum *)&cloth->partition_type, NULL));
+  PetscCall(PetscOptionsEnum("-cloth_partition", "How particles are split across ranks: metis (METIS on rank 0), block (natural order), ptscotch or parmetis (PETSc MatPartitioning on all ranks; parmetis if PETSc has it)", "ClothSetUp",
+                             ClothPartitionTypes, (PetscEnum)cloth->partition_type, (PetscEnum *)&cloth->partition_type, NULL));
   PetscCall(PetscOptionsBool("-cloth_view_partition", "Print the partition quality at start-up, with one line per rank", "ClothView", cloth->view_partition, &cloth->view_partition, NULL));
   PetscCall(PetscOptionsBool("-cloth_view_partition_summary", "Print a one-line partition summary at start-up on more than one rank", "ClothSetViewPartitionSummary", cloth->view_partition_summary, &cloth->view_partition_summary, NULL));
   PetscCall(PetscOptionsReal("-cloth_perturbation", "Amplitude, m, of a seeded random displacement of the free particles along the fabric's normal at the start (a real specimen's imperfections; 0: none)", "ClothModelPerturbPositions",
@@ -83,29 +91,32 @@ static PetscInt InteractionOwner(Cloth cloth, const PetscInt p[], PetscInt np)
   return cloth->part[natural];
 }
 
-/* How many links and angle springs this rank evaluates, so that its arrays are sized by its own
-   share and not by the model's totals. */
-static void ClothCountOwnInteractions(Cloth cloth, PetscMPIInt rank, PetscInt *nlinks, PetscInt *nangles, PetscInt *nseam)
+/* How many links, angle elements (of them elastic) and seam links this rank evaluates, so that arrays are sized by
+   its own share and not by the model's totals. */
+static void ClothCountOwnInteractions(Cloth cloth, PetscMPIInt rank, PetscInt *nlinks, PetscInt *nangles, PetscInt *nelastic, PetscInt *nseam)
 {
   const ClothModel m = cloth->model;
 
-  *nlinks = *nangles = *nseam = 0;
+  *nlinks = *nangles = *nelastic = *nseam = 0;
   for (PetscInt s = 0; s < m->nseamlinks; s++)
     if (InteractionOwner(cloth, m->seamlinks[s].p, m->seamlinks[s].np) == rank) (*nseam)++;
   for (PetscInt l = 0; l < m->nlinks; l++)
     if (InteractionOwner(cloth, m->links[l].p, 2) == rank) (*nlinks)++;
   for (PetscInt a = 0; a < m->nangles; a++)
-    if (InteractionOwner(cloth, m->angles[a].p, ClothAngleParticleCount(m->angles[a].kind)) == rank) (*nangles)++;
+    if (InteractionOwner(cloth, m->angles[a].p, ClothAngleParticleCount(m->angles[a].kind)) == rank) {
+      (*nangles)++;
+      if (m->angles[a].slip <= 0) (*nelastic)++;
+    }
 }
 
 /* Collects the solver indices of particles this rank's interactions touch but does not own. */
 static PetscErrorCode ClothFindGhosts(Cloth cloth, PetscMPIInt rank)
 {
   const ClothModel m = cloth->model;
-  PetscInt         n = 0, nlinks, nangles, nseam;
+  PetscInt         n = 0, nlinks, nangles, nelastic, nseam;
 
   PetscFunctionBeginUser;
-  ClothCountOwnInteractions(cloth, rank, &nlinks, &nangles, &nseam);
+  ClothCountOwnInteractions(cloth, rank, &nlinks, &nangles, &nelastic, &nseam);
   PetscCall(PetscMalloc1(2 * nlinks + CLOTH_ANGLE_MAX_PARTICLES * nangles + CLOTH_SEAM_LINK_MAX_PARTICLES * nseam + 1, &cloth->ghosts));
   for (PetscInt s = 0; s < m->nseamlinks; s++)
     if (InteractionOwner(cloth, m->seamlinks[s].p, m->seamlinks[s].np) == rank)
@@ -140,33 +151,45 @@ static PetscErrorCode ClothLocalIndex(Cloth cloth, PetscInt natural, PetscInt *l
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* Keeps this rank's interactions, renumbered to local indices. */
+PetscErrorCode ClothLocalizeInteraction(Cloth cloth, PetscInt np, const PetscInt natural[], PetscBool *here, PetscInt local[])
+{
+  PetscMPIInt rank;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(cloth->comm, &rank));
+  *here = InteractionOwner(cloth, natural, np) == rank ? PETSC_TRUE : PETSC_FALSE;
+  if (*here)
+    for (PetscInt k = 0; k < np; k++) PetscCall(ClothLocalIndex(cloth, natural[k], &local[k]));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Keeps this rank's links and elastic angle springs, renumbered to local indices (the other interactions of the
+   model: their contributions, ClothModelContributions). */
 static PetscErrorCode ClothDistributeInteractions(Cloth cloth, PetscMPIInt rank)
 {
   const ClothModel m = cloth->model;
-  PetscInt         nlinks, nangles, nseam;
+  PetscInt         nlinks, nseam, local[CLOTH_ANGLE_MAX_PARTICLES];
+  PetscBool        here;
 
   PetscFunctionBeginUser;
-  ClothCountOwnInteractions(cloth, rank, &nlinks, &nangles, &nseam);
-  PetscCall(PetscMalloc2(nlinks, &cloth->links, nangles, &cloth->angles));
-  PetscCall(PetscMalloc2(nseam, &cloth->seamlinks, nseam, &cloth->seamlink_model_index));
-  for (PetscInt s = 0; s < m->nseamlinks; s++) {
-    if (InteractionOwner(cloth, m->seamlinks[s].p, m->seamlinks[s].np) != rank) continue;
-    cloth->seamlinks[cloth->nseamlinks]            = m->seamlinks[s];
-    cloth->seamlink_model_index[cloth->nseamlinks] = s;
-    for (PetscInt k = 0; k < m->seamlinks[s].np; k++) PetscCall(ClothLocalIndex(cloth, m->seamlinks[s].p[k], &cloth->seamlinks[cloth->nseamlinks].p[k]));
-    cloth->nseamlinks++;
-  }
+  ClothCountOwnInteractions(cloth, rank, &nlinks, &cloth->nangles_evaluated, &cloth->nangles, &nseam);
+  PetscCall(PetscMalloc2(nlinks, &cloth->links, cloth->nangles, &cloth->angles));
+  cloth->nangles = 0;
   for (PetscInt l = 0; l < m->nlinks; l++) {
-    if (InteractionOwner(cloth, m->links[l].p, 2) != rank) continue;
+    PetscCall(ClothLocalizeInteraction(cloth, 2, m->links[l].p, &here, local));
+    if (!here) continue;
     cloth->links[cloth->nlinks] = m->links[l];
-    for (PetscInt k = 0; k < 2; k++) PetscCall(ClothLocalIndex(cloth, m->links[l].p[k], &cloth->links[cloth->nlinks].p[k]));
+    for (PetscInt k = 0; k < 2; k++) cloth->links[cloth->nlinks].p[k] = local[k];
     cloth->nlinks++;
   }
   for (PetscInt a = 0; a < m->nangles; a++) {
-    if (InteractionOwner(cloth, m->angles[a].p, ClothAngleParticleCount(m->angles[a].kind)) != rank) continue;
+    const PetscInt np = ClothAngleParticleCount(m->angles[a].kind);
+
+    if (m->angles[a].slip > 0) continue;
+    PetscCall(ClothLocalizeInteraction(cloth, np, m->angles[a].p, &here, local));
+    if (!here) continue;
     cloth->angles[cloth->nangles] = m->angles[a];
-    for (PetscInt k = 0; k < ClothAngleParticleCount(m->angles[a].kind); k++) PetscCall(ClothLocalIndex(cloth, m->angles[a].p[k], &cloth->angles[cloth->nangles].p[k]));
+    for (PetscInt k = 0; k < np; k++) cloth->angles[cloth->nangles].p[k] = local[k];
     cloth->nangles++;
   }
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -276,6 +299,7 @@ PetscErrorCode ClothSetUp(Cloth cloth)
   PetscCall(ClothSetUpNaturalScatter(cloth));
   PetscCall(ClothLogPhaseEnd(CLOTH_SETUP_DISTRIBUTE));
   cloth->setup = PETSC_TRUE;
+  for (size_t c = 0; c < PETSC_STATIC_ARRAY_LENGTH(ClothModelContributions); c++) PetscCall(ClothModelContributions[c](cloth));
   PetscCall(PetscLogEventEnd(ClothLog.setup, 0, 0, 0, 0));
   if (cloth->view_partition)
     PetscCall(ClothView(cloth, PETSC_VIEWER_STDOUT_(cloth->comm)));
@@ -307,7 +331,7 @@ static PetscInt ClothCountGhostOwners(Cloth cloth)
 static PetscErrorCode ClothViewPartitionSummary(Cloth cloth, PetscViewer viewer)
 {
   enum { OWNED, GHOSTS, INTERACTIONS, NCOUNTS };
-  const PetscInt local[NCOUNTS] = {cloth->nlocal, cloth->nghost, cloth->nlinks + cloth->nangles};
+  const PetscInt local[NCOUNTS] = {cloth->nlocal, cloth->nghost, cloth->nlinks + cloth->nangles_evaluated};
   const PetscInt edges          = cloth->xadj[cloth->nglobal] / 2;
   PetscInt       minc[NCOUNTS], maxc[NCOUNTS], sum[NCOUNTS];
   PetscMPIInt    size;
@@ -346,7 +370,7 @@ PetscErrorCode ClothView(Cloth cloth, PetscViewer viewer)
   PetscCall(ClothViewPartitionSummary(cloth, viewer));
   PetscCall(PetscViewerASCIIPushSynchronized(viewer));
   PetscCall(PetscViewerASCIISynchronizedPrintf(viewer, "[%d] owned %" PetscInt_FMT " (solver numbers %" PetscInt_FMT "..%" PetscInt_FMT "), ghosts %" PetscInt_FMT " from %" PetscInt_FMT " rank(s), links %" PetscInt_FMT ", angles %" PetscInt_FMT "\n",
-                                               rank, cloth->nlocal, cloth->rstart, cloth->rstart + cloth->nlocal - 1, cloth->nghost, ClothCountGhostOwners(cloth), cloth->nlinks, cloth->nangles));
+                                               rank, cloth->nlocal, cloth->rstart, cloth->rstart + cloth->nlocal - 1, cloth->nghost, ClothCountGhostOwners(cloth), cloth->nlinks, cloth->nangles_evaluated));
   PetscCall(PetscViewerFlush(viewer));
   PetscCall(PetscViewerASCIIPopSynchronized(viewer));
   PetscCall(PetscViewerASCIIPopTab(viewer));
@@ -361,8 +385,8 @@ PetscErrorCode ClothDestroy(Cloth *cloth)
   if (!c) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(ClothModelDestroy(&c->model));
   PetscCall(PetscFree(c->part));
-  PetscCall(PetscFree(c->slider_saved[0]));
-  PetscCall(PetscFree(c->slider_saved[1]));
+  for (PetscInt k = 0; k < c->ncontributions; k++)
+    if (c->contributions[k].destroy) PetscCall(c->contributions[k].destroy(c->contributions[k].ctx));
   PetscCall(PetscFree(c->solver_of_natural));
   PetscCall(PetscFree(c->ghosts));
   PetscCall(PetscFree(c->xadj));
@@ -370,7 +394,6 @@ PetscErrorCode ClothDestroy(Cloth *cloth)
   if (c->setup) {
     PetscCall(PetscFree4(c->natural_of_local, c->mass, c->damping, c->fixed));
     PetscCall(PetscFree2(c->links, c->angles));
-    PetscCall(PetscFree2(c->seamlinks, c->seamlink_model_index));
   }
   PetscCall(VecDestroy(&c->position));
   PetscCall(VecDestroy(&c->velocity));
@@ -447,7 +470,7 @@ PetscErrorCode ClothGetInteractionCounts(Cloth cloth, PetscInt *nlinks, PetscInt
   PetscFunctionBeginUser;
   PetscCheck(cloth->setup, PETSC_COMM_SELF, PETSC_ERR_ORDER, "Call ClothSetUp before ClothGetInteractionCounts");
   if (nlinks) *nlinks = cloth->nlinks;
-  if (nangles) *nangles = cloth->nangles;
+  if (nangles) *nangles = cloth->nangles_evaluated;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -456,15 +479,6 @@ PetscErrorCode ClothGetMasses(Cloth cloth, const PetscReal **mass, const PetscBo
   PetscFunctionBeginUser;
   if (mass) *mass = cloth->mass;
   if (fixed) *fixed = cloth->fixed;
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-PetscErrorCode ClothGetSeamLinks(Cloth cloth, PetscInt *n, ClothSeamLink **links, const PetscInt **model_index)
-{
-  PetscFunctionBeginUser;
-  *n     = cloth->nseamlinks;
-  *links = cloth->seamlinks;
-  if (model_index) *model_index = cloth->seamlink_model_index;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

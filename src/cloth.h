@@ -38,8 +38,8 @@ PetscErrorCode ClothGetState(Cloth cloth, Vec *position, Vec *velocity);
 /* A new ghosted Vec with the state's layout (forces, work). */
 PetscErrorCode ClothCreateStateVec(Cloth cloth, Vec *v);
 PetscErrorCode ClothGetSizes(Cloth cloth, PetscInt *nlocal, PetscInt *nglobal);
-/* The links and angle springs this rank evaluates. Every interaction of the model is evaluated on
-   exactly one rank, so these sum over the ranks to the model's totals. Not collective. */
+/* The links and angle springs (elastic and friction elements) this rank evaluates. Every interaction of the model
+   is evaluated on exactly one rank, so these sum over the ranks to the model's totals. Not collective. */
 PetscErrorCode ClothGetInteractionCounts(Cloth cloth, PetscInt *nlinks, PetscInt *nangles);
 /* Per owned particle: mass (kg) and whether it is held fixed. Borrowed arrays. */
 PetscErrorCode ClothGetMasses(Cloth cloth, const PetscReal **mass, const PetscBool **fixed);
@@ -47,23 +47,13 @@ PetscErrorCode ClothGetMasses(Cloth cloth, const PetscReal **mass, const PetscBo
 /* force = internal + gravity + damping forces at (position, velocity). position and velocity get
    their ghosts refreshed. Collective. */
 PetscErrorCode ClothComputeForces(Cloth cloth, Vec position, Vec velocity, Vec force);
-/* Moves the sliders of the bending- and shear-hysteresis friction elements (ClothAngleSlide) to the state at
-   position, the start of a step. A no-op without hysteresis. position gets its ghosts refreshed. Collective. */
-PetscErrorCode ClothUpdateHysteresis(Cloth cloth, Vec position);
-/* Saves the sliders in slot 0 or 1, and puts them back: a failed (sub-)step is undone completely (the integrator).
-   No-ops without hysteresis. Not collective. */
-PetscErrorCode ClothHysteresisSave(Cloth cloth, PetscInt slot);
-PetscErrorCode ClothHysteresisRestore(Cloth cloth, PetscInt slot);
-typedef enum {
-  CLOTH_SLIDERS_BEND, /* checkpoint field bend_slider: 4 per particle, cos and sin of the slider angle of the warp chain centred on it, then of the weft chain */
-  CLOTH_SLIDERS_SHEAR /* checkpoint field shear_slider: 2 per particle, cos and sin of the slider angle of the cell whose first corner (i, j) it is */
-} ClothSliderFamily;
-#define CLOTH_SLIDER_FAMILIES 2
-/* One family of sliders as a checkpoint field (natural order; 0 where there is none), named as its dataset.
-   Create gives NULL when the fabric has no friction elements of that family. Collective. */
-PetscErrorCode ClothHysteresisCreateStateVec(Cloth cloth, ClothSliderFamily family, Vec *state);
-PetscErrorCode ClothHysteresisGetState(Cloth cloth, ClothSliderFamily family, Vec state);
-PetscErrorCode ClothHysteresisSetState(Cloth cloth, ClothSliderFamily family, Vec state);
+/* A (sub-)step starts at position: every contribution with begin_step updates its internal state there (the
+   hysteresis sliders). position gets its ghosts refreshed by those that read it. Collective. */
+PetscErrorCode ClothBeginStep(Cloth cloth, Vec position);
+/* Saves the contributions' internal state (the hysteresis sliders) in slot 0 or 1, and puts it back: a failed
+   (sub-)step is undone completely (the integrator). Not collective. */
+PetscErrorCode ClothSaveState(Cloth cloth, PetscInt slot);
+PetscErrorCode ClothRestoreState(Cloth cloth, PetscInt slot);
 /* The linearised backward Euler system of docs/model.md section 5, filtered by the constraints:
    A = S (M + h C + h^2 K) S + (I - S) and rhs = S h (F - h K v), K the positive semidefinite part of
    the stiffness. A must come from ClothCreateMatrix. Collective. */
@@ -72,11 +62,12 @@ PetscErrorCode ClothAssembleImplicitSystem(Cloth cloth, PetscReal h, Vec positio
    positive semidefinite part; for Jacobian tests against finite differences. */
 PetscErrorCode ClothSetExactStiffness(Cloth cloth, PetscBool exact);
 /* Force contributions that plug into the cloth (docs/architecture.md, "Adding a force"). The cloth's own
-   interactions (links, angle springs, twist, seam links, gravity, damping, bodies' push) are built in; any
-   other force (cloth-cloth repulsion today) registers one ClothContribution, and the cloth then asks it, at
-   every evaluation, for its share of the forces, the energy, K v and the implicit matrix, and, when it
-   creates the matrix, for the blocks it couples beyond the interactions' pattern. A contribution reads the
-   cloth through its public accessors (ClothGetState, ClothGetLayout, ClothGetContactNormals, ...). */
+   interactions (links, elastic angle springs and twist, gravity, damping) are built in; every other force registers
+   one ClothContribution: the model's seam links (seam_links.c) and hysteresis (hysteresis.c) at ClothSetUp,
+   cloth-cloth repulsion and body friction in the driver. The cloth then asks each, at every evaluation, for its
+   share of the forces, the energy, K v and the implicit matrix, and, when it creates the matrix, for the blocks it
+   couples beyond the interactions' pattern. A contribution reads the cloth through its public accessors
+   (ClothGetState, ClothGetLayout, ClothGetContactNormals, ...). */
 typedef struct {
   Vec        position, velocity; /* the state evaluated (global form, solver numbering) */
   Vec        force;              /* add the contribution's forces here (global form) */
@@ -86,10 +77,35 @@ typedef struct {
   PetscBool  psd;                /* the stiffness added to A must be positive semidefinite */
   PetscReal *energy;             /* NULL, or add the contribution's energy (this rank's part) here */
 } ClothContributionArgs;
+
+/* The largest element: cell shear springs (CLOTH_ANGLE_MAX_PARTICLES) and interpolated seam links
+   (CLOTH_SEAM_LINK_MAX_PARTICLES). */
+#define CLOTH_ELEMENT_MAX_PARTICLES PetscMax(CLOTH_ANGLE_MAX_PARTICLES, CLOTH_SEAM_LINK_MAX_PARTICLES)
+/* One element in the common form of the cloth's pass over its interactions: np particles p (local numbering),
+   its energy, the forces on them (3 np) and the Hessian of the energy (3np x 3np, row-major; only when asked). */
 typedef struct {
-  const char *name; /* for messages */
+  PetscInt  np;
+  PetscInt  p[CLOTH_ELEMENT_MAX_PARTICLES];
+  PetscReal energy;
+  PetscReal force[3 * CLOTH_ELEMENT_MAX_PARTICLES];
+  PetscReal H[9 * CLOTH_ELEMENT_MAX_PARTICLES * CLOTH_ELEMENT_MAX_PARTICLES];
+} ClothElement;
+/* Where a contribution's elements go during the cloth's pass (add_elements): opaque. */
+typedef struct _n_ClothElementSink *ClothElementSink;
+/* What the pass evaluates: positions in local form (owned then ghosts, fresh), whether elements must give their
+   Hessian, and the form of the angle elements' stiffness (ClothAngleEvaluate). */
+PetscErrorCode ClothElementSinkGetInput(ClothElementSink sink, const PetscScalar **x, PetscBool *want_hessian, ClothStiffness *form);
+/* Adds one element to what the pass accumulates: energy, forces, K v, and its stiffness filtered by the
+   constraints into the matrix (element->H is overwritten by h^2 S H S). Not collective. */
+PetscErrorCode ClothElementSinkAdd(ClothElementSink sink, ClothElement *element);
+/* The element of an angle spring or friction element (forces.h) at local positions x. */
+PetscErrorCode ClothElementFromAngle(const ClothAngle *angle, const PetscScalar *x, PetscBool want_hessian, ClothStiffness form, ClothElement *element);
+
+typedef struct {
+  const char *name; /* for messages, and ClothGetContribution */
   void       *ctx;  /* the contribution's object; identifies it in ClothRemoveContribution */
-  /* Adds forces and what else args asks for, at every evaluation. May be NULL (add_to_implicit_step only). Collective. */
+  /* Adds forces and what else args asks for, at every evaluation, after the cloth's pass (global form: for forces
+     that reach particles beyond the ghosts). May be NULL. Collective. */
   PetscErrorCode (*add)(void *ctx, const ClothContributionArgs *args);
   /* Adds, per owned particle (row), the 3x3 blocks coupled beyond the interactions' pattern: diagonal / off-diagonal
      part of the matrix, and of them those above the diagonal. May be NULL. Not collective. */
@@ -100,6 +116,17 @@ typedef struct {
      there (owned entries complete) and the matrix being assembled: adds its force to F (so that it enters the
      right-hand side) and h times minus its velocity Jacobian to the owned diagonal blocks of A. May be NULL. */
   PetscErrorCode (*add_to_implicit_step)(void *ctx, PetscReal h, Vec velocity, Vec force, Mat A);
+  /* Adds elements whose particles are all owned or ghosts (interactions of the model: ClothLocalizeInteraction)
+     inside the cloth's own pass, before the ghosts are summed back: no communication of its own. May be NULL.
+     Not collective. */
+  PetscErrorCode (*add_elements)(void *ctx, ClothElementSink sink);
+  /* ClothBeginStep: a (sub-)step starts at position. May be NULL. Collective. */
+  PetscErrorCode (*begin_step)(void *ctx, Vec position);
+  /* ClothSaveState, ClothRestoreState: save the internal state in slot 0 or 1, put it back. May be NULL. */
+  PetscErrorCode (*save)(void *ctx, PetscInt slot);
+  PetscErrorCode (*restore)(void *ctx, PetscInt slot);
+  /* NULL: the caller owns ctx; else the cloth does, and destroys it with this when it is removed or destroyed. */
+  PetscErrorCode (*destroy)(void *ctx);
 } ClothContribution;
 #define CLOTH_MAX_CONTRIBUTIONS 8
 /* Counts the block (row, col) (solver indices, row owned: rstart <= row < rend) in its row's preallocation: the
@@ -125,6 +152,13 @@ static inline void ClothCountRowBlock(PetscInt rstart, PetscInt rend, PetscInt r
 PetscErrorCode ClothAddContribution(Cloth cloth, const ClothContribution *contribution);
 /* Unregisters the contribution whose ctx this is (no-op when none). */
 PetscErrorCode ClothRemoveContribution(Cloth cloth, void *ctx);
+/* The ctx of the registered contribution of this name, or NULL when none. */
+PetscErrorCode ClothGetContribution(Cloth cloth, const char *name, void **ctx);
+/* Whether this rank evaluates the interaction of the model on natural particles natural[0..np) (the owner of its
+   lowest-numbered particle in solver numbering, as for the cloth's own interactions) and, if so, their local
+   numbers. Every interaction of the model (links, angles, seam links) is in the interaction graph, so its
+   particles are owned or ghosts here and in the matrix's pattern. After the partition (ClothSetUp). Not collective. */
+PetscErrorCode ClothLocalizeInteraction(Cloth cloth, PetscInt np, const PetscInt natural[], PetscBool *here, PetscInt local[]);
 
 /* The distribution of the particles, read-only and borrowed, for contributions and other modules built on the
    cloth. Solver numbering: each rank owns [rstart, rstart + nlocal); local numbering: owned then ghosts. */
@@ -202,9 +236,6 @@ PetscErrorCode ClothComputeParticleAreas(Cloth cloth, PetscReal area[]);
 /* Contact pressure, N/m^2: per particle the body's normal force on it (normal_force per owned particle, as
    ClothCollisionGetNormalForces gives it; NULL: no bodies, all zero) over its fabric area. Collective. */
 PetscErrorCode ClothComputeContactPressure(Cloth cloth, const PetscReal normal_force[], Vec pressure);
-/* This rank's seam links (seam.h; local particle numbering) and their indices in the model, for the
-   sewing phases to set their stiffness. Borrowed. */
-PetscErrorCode ClothGetSeamLinks(Cloth cloth, PetscInt *n, ClothSeamLink **links, const PetscInt **model_index);
 /* Gravity is multiplied by scale (0 while seams are pulled together, 1 otherwise). */
 PetscErrorCode ClothSetGravityScale(Cloth cloth, PetscReal scale);
 /* Friction with bodies is multiplied by scale (sewing's pull_friction while seams are pulled, 1 otherwise). */

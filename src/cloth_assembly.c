@@ -3,11 +3,11 @@
 #include "cloth_impl.h"
 #include "log.h"
 
-/* the largest element: cell shear springs (CLOTH_ANGLE_MAX_PARTICLES) and interpolated seam links (CLOTH_SEAM_LINK_MAX_PARTICLES) */
-#define CLOTH_MAX_ELEMENT_PARTICLES PetscMax(CLOTH_ANGLE_MAX_PARTICLES, CLOTH_SEAM_LINK_MAX_PARTICLES)
-
-/* What one pass over the interactions accumulates (NULL / PETSC_FALSE: not wanted). */
-typedef struct {
+/* What one pass over the interactions accumulates (NULL / PETSC_FALSE: not wanted); the contributions' elements
+   reach it as a ClothElementSink. */
+typedef struct _n_ClothElementSink {
+  Cloth              cloth;
+  const PetscScalar *x;        /* positions, local form */
   PetscScalar       *force;    /* local form (owned + ghosts), 3 per particle */
   PetscScalar       *kv;       /* K v, local form */
   const PetscScalar *velocity; /* local form, needed for kv */
@@ -19,15 +19,6 @@ typedef struct {
   ClothStiffness     stiffness; /* form of the angle and twist elements' stiffness */
   const PetscScalar *normal;    /* contact normals, local form (NULL: no contacts) */
 } ClothEvaluation;
-
-/* Element data in a common form: np particles, forces (3 np), Hessian (3np x 3np, row-major). */
-typedef struct {
-  PetscInt  np;
-  PetscInt  p[CLOTH_MAX_ELEMENT_PARTICLES];
-  PetscReal energy;
-  PetscReal force[3 * CLOTH_MAX_ELEMENT_PARTICLES];
-  PetscReal H[9 * CLOTH_MAX_ELEMENT_PARTICLES * CLOTH_MAX_ELEMENT_PARTICLES];
-} ClothElement;
 
 static PetscErrorCode EvaluateLink(const ClothLink *link, const PetscScalar *x, PetscBool want_h, PetscBool psd, ClothElement *e)
 {
@@ -54,7 +45,7 @@ static PetscErrorCode EvaluateLink(const ClothLink *link, const PetscScalar *x, 
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-static PetscErrorCode EvaluateAngle(const ClothAngle *angle, const PetscScalar *x, PetscBool want_h, ClothStiffness form, ClothElement *e)
+PetscErrorCode ClothElementFromAngle(const ClothAngle *angle, const PetscScalar *x, PetscBool want_h, ClothStiffness form, ClothElement *e)
 {
   const PetscReal *xs[CLOTH_ANGLE_MAX_PARTICLES];
 
@@ -90,7 +81,7 @@ static PetscBool ConstraintFilter(Cloth cloth, const PetscScalar *normal, PetscI
 static void FilterElementStiffness(Cloth cloth, const PetscScalar *normal, PetscReal h2, ClothElement *e)
 {
   const PetscInt n = 3 * e->np;
-  PetscReal      S[CLOTH_MAX_ELEMENT_PARTICLES][9], B[9], T[9];
+  PetscReal      S[CLOTH_ELEMENT_MAX_PARTICLES][9], B[9], T[9];
   PetscBool      constrained = PETSC_FALSE;
 
   for (PetscInt a = 0; a < e->np; a++) constrained = ConstraintFilter(cloth, normal, e->p[a], S[a]) ? PETSC_TRUE : constrained;
@@ -109,8 +100,17 @@ static void FilterElementStiffness(Cloth cloth, const PetscScalar *normal, Petsc
     }
 }
 
+PetscErrorCode ClothElementSinkGetInput(ClothElementSink ev, const PetscScalar **x, PetscBool *want_hessian, ClothStiffness *form)
+{
+  PetscFunctionBeginUser;
+  if (x) *x = ev->x;
+  if (want_hessian) *want_hessian = (ev->kv || ev->A) ? PETSC_TRUE : PETSC_FALSE;
+  if (form) *form = ev->stiffness;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 /* Adds one element's contributions to what the evaluation wants. */
-static PetscErrorCode AccumulateElement(Cloth cloth, ClothElement *e, ClothEvaluation *ev)
+PetscErrorCode ClothElementSinkAdd(ClothElementSink ev, ClothElement *e)
 {
   const PetscInt n = 3 * e->np;
 
@@ -127,46 +127,32 @@ static PetscErrorCode AccumulateElement(Cloth cloth, ClothElement *e, ClothEvalu
     }
   if (ev->A) {
     /* Filter: constrained directions drop out (I - S goes on the diagonal, AddDiagonalBlocks). */
-    FilterElementStiffness(cloth, ev->normal, ev->h2, e);
+    FilterElementStiffness(ev->cloth, ev->normal, ev->h2, e);
     PetscCall(MatSetValuesBlockedLocal(ev->A, e->np, e->p, e->np, e->p, e->H, ADD_VALUES));
   }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-static PetscErrorCode EvaluateSeamLink(const ClothSeamLink *link, const PetscScalar *x, PetscBool want_h, ClothElement *e)
-{
-  const PetscReal *xs[CLOTH_SEAM_LINK_MAX_PARTICLES];
-
-  PetscFunctionBeginUser;
-  e->np = link->np;
-  for (PetscInt k = 0; k < link->np; k++) {
-    e->p[k] = link->p[k];
-    xs[k]   = &x[3 * link->p[k]];
-  }
-  PetscCall(ClothSeamLinkEvaluate(link, xs, &e->energy, e->force, want_h ? e->H : NULL));
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-/* One pass over this rank's interactions at local positions x. */
+/* One pass over this rank's interactions at local positions x: the cloth's own, then the contributions' elements. */
 static PetscErrorCode ClothEvaluateInteractions(Cloth cloth, const PetscScalar *x, ClothEvaluation *ev)
 {
   const PetscBool want_h = (ev->kv || ev->A) ? PETSC_TRUE : PETSC_FALSE;
   ClothElement    e;
 
   PetscFunctionBeginUser;
+  ev->cloth = cloth;
+  ev->x     = x;
   for (PetscInt l = 0; l < cloth->nlinks; l++) {
     PetscCall(EvaluateLink(&cloth->links[l], x, want_h, ev->psd, &e));
-    PetscCall(AccumulateElement(cloth, &e, ev));
+    PetscCall(ClothElementSinkAdd(ev, &e));
   }
   for (PetscInt a = 0; a < cloth->nangles; a++) {
-    PetscCall(EvaluateAngle(&cloth->angles[a], x, want_h, ev->stiffness, &e));
-    PetscCall(AccumulateElement(cloth, &e, ev));
-  }
-  for (PetscInt s = 0; s < cloth->nseamlinks; s++) { /* their Hessians are positive semidefinite as they are */
-    PetscCall(EvaluateSeamLink(&cloth->seamlinks[s], x, want_h, &e));
-    PetscCall(AccumulateElement(cloth, &e, ev));
+    PetscCall(ClothElementFromAngle(&cloth->angles[a], x, want_h, ev->stiffness, &e));
+    PetscCall(ClothElementSinkAdd(ev, &e));
   }
   PetscCall(PetscLogFlops(60.0 * cloth->nlinks + 400.0 * cloth->nangles));
+  for (PetscInt c = 0; c < cloth->ncontributions; c++)
+    if (cloth->contributions[c].add_elements) PetscCall(cloth->contributions[c].add_elements(cloth->contributions[c].ctx, ev));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -452,7 +438,7 @@ PetscErrorCode ClothSetSelfContact(Cloth cloth, ClothSelfContact sc)
 PetscErrorCode ClothAddContribution(Cloth cloth, const ClothContribution *contribution)
 {
   PetscFunctionBeginUser;
-  PetscCheck(contribution->add || contribution->add_to_implicit_step, PETSC_COMM_SELF, PETSC_ERR_ARG_NULL, "Contribution '%s' adds nothing (no add or add_to_implicit_step)", contribution->name);
+  PetscCheck(contribution->add || contribution->add_to_implicit_step || contribution->add_elements, PETSC_COMM_SELF, PETSC_ERR_ARG_NULL, "Contribution '%s' adds nothing (no add, add_elements or add_to_implicit_step)", contribution->name);
   PetscCheck(cloth->ncontributions < CLOTH_MAX_CONTRIBUTIONS, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "Contribution '%s': the cloth takes at most %d", contribution->name, CLOTH_MAX_CONTRIBUTIONS);
   cloth->contributions[cloth->ncontributions++] = *contribution;
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -463,9 +449,61 @@ PetscErrorCode ClothRemoveContribution(Cloth cloth, void *ctx)
   PetscInt kept = 0;
 
   PetscFunctionBeginUser;
-  for (PetscInt c = 0; c < cloth->ncontributions; c++)
-    if (cloth->contributions[c].ctx != ctx) cloth->contributions[kept++] = cloth->contributions[c];
+  for (PetscInt c = 0; c < cloth->ncontributions; c++) {
+    if (cloth->contributions[c].ctx != ctx)
+      cloth->contributions[kept++] = cloth->contributions[c];
+    else if (cloth->contributions[c].destroy)
+      PetscCall(cloth->contributions[c].destroy(ctx));
+  }
   cloth->ncontributions = kept;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothGetContribution(Cloth cloth, const char *name, void **ctx)
+{
+  PetscBool same;
+
+  PetscFunctionBeginUser;
+  *ctx = NULL;
+  for (PetscInt c = 0; c < cloth->ncontributions && !*ctx; c++) {
+    PetscCall(PetscStrcmp(cloth->contributions[c].name, name, &same));
+    if (same) *ctx = cloth->contributions[c].ctx;
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothBeginStep(Cloth cloth, Vec position)
+{
+  PetscFunctionBeginUser;
+  for (PetscInt c = 0; c < cloth->ncontributions; c++)
+    if (cloth->contributions[c].begin_step) PetscCall(cloth->contributions[c].begin_step(cloth->contributions[c].ctx, position));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Calls every contribution's save (or restore) with slot 0 or 1. */
+static PetscErrorCode CallSlotHooks(Cloth cloth, PetscInt slot, PetscBool save)
+{
+  PetscFunctionBeginUser;
+  PetscCheck(slot == 0 || slot == 1, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "%s slot %" PetscInt_FMT ": expected 0 or 1", save ? "Save" : "Restore", slot);
+  for (PetscInt c = 0; c < cloth->ncontributions; c++) {
+    PetscErrorCode (*hook)(void *, PetscInt) = save ? cloth->contributions[c].save : cloth->contributions[c].restore;
+
+    if (hook) PetscCall(hook(cloth->contributions[c].ctx, slot));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothSaveState(Cloth cloth, PetscInt slot)
+{
+  PetscFunctionBeginUser;
+  PetscCall(CallSlotHooks(cloth, slot, PETSC_TRUE));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothRestoreState(Cloth cloth, PetscInt slot)
+{
+  PetscFunctionBeginUser;
+  PetscCall(CallSlotHooks(cloth, slot, PETSC_FALSE));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

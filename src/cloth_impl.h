@@ -1,5 +1,5 @@
 /* Private: the body of the Cloth object, shared by cloth.c (set-up, layout) and
-   cloth_assembly.c (forces, Jacobians, energies). */
+   cloth_assembly.c (forces, Jacobians, energies, contributions). Every other module uses cloth.h. */
 #pragma once
 #include "cloth.h"
 #include "forces.h"
@@ -24,22 +24,19 @@ struct _n_Cloth {
   PetscInt *ghosts;            /* solver indices of the ghosts, ascending */
   PetscInt  edge_cut;
 
-  PetscReal     *mass, *damping; /* owned */
-  PetscBool     *fixed;          /* owned and ghosts */
-  PetscInt       nlinks, nangles;
-  ClothLink     *links;  /* local particle indices */
-  ClothAngle    *angles; /* local particle indices */
-  PetscInt       nseamlinks;
-  ClothSeamLink *seamlinks;            /* local particle indices; stiffness set by the sewing phases */
-  PetscInt      *seamlink_model_index; /* index of each into model->seamlinks */
-  PetscReal      gravity_scale;        /* 1, or 0 while seams are pulled together (sewing.h) */
-  PetscReal      friction_scale;       /* multiplies body friction: 1, or sewing's pull_friction while seams are pulled */
-  PetscInt      *xadj, *adjncy;        /* natural-order adjacency, kept for preallocation */
+  PetscReal  *mass, *damping; /* owned */
+  PetscBool  *fixed;          /* owned and ghosts */
+  PetscInt    nlinks, nangles;
+  ClothLink  *links;             /* local particle indices */
+  ClothAngle *angles;            /* the elastic ones (slip 0; friction elements: hysteresis.c), local particle indices */
+  PetscInt    nangles_evaluated; /* every angle element of the model this rank evaluates, elastic or friction */
+  PetscReal   gravity_scale;     /* 1, or 0 while seams are pulled together (sewing.h) */
+  PetscReal   friction_scale;    /* multiplies body friction: 1, or sewing's pull_friction while seams are pulled */
+  PetscInt   *xadj, *adjncy;     /* natural-order adjacency, kept for preallocation */
 
   Vec position, velocity, work_force, work_kv;
   Vec contact_normal;                                                 /* ghosted, bs 3: unit normal of each particle's contact constraint, 0 when free
                                                                          (created by ClothGetContactNormals; NULL: no contacts) */
-  PetscReal                  *slider_saved[2];                        /* cos0, sin0 of the friction elements, per save slot (ClothHysteresisSave) */
   struct _n_ClothSelfContact *self_contact;                           /* cloth-cloth contacts whose updates the integrator applies (borrowed, NULL: off) */
   ClothContribution           contributions[CLOTH_MAX_CONTRIBUTIONS]; /* plugged-in forces (cloth.h) */
   PetscInt                    ncontributions;

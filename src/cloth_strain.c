@@ -6,7 +6,7 @@
    evaluated on the rank that evaluates its forces; a particle owned elsewhere gets the value through a MAX
    reduction of the ghosts. Pressure: the normal force a body exerts on the particle (collision.h) over the
    particle's fabric area (N/m^2): where the garment presses on the body. */
-#include "cloth_impl.h"
+#include "cloth.h"
 #include "vec3.h"
 
 typedef enum {
@@ -15,9 +15,9 @@ typedef enum {
 } ClothStretchMeasure;
 
 /* The piece of natural particle a. */
-static PetscInt ClothPieceOf(Cloth cloth, PetscInt a)
+static PetscInt ClothPieceOf(const ClothLayout *layout, PetscInt a)
 {
-  const ClothModel m     = cloth->model;
+  const ClothModel m     = layout->model;
   PetscInt         piece = 0;
 
   while (piece + 1 < m->npieces && a >= m->piece_offset[piece + 1]) piece++;
@@ -27,16 +27,16 @@ static PetscInt ClothPieceOf(Cloth cloth, PetscInt a)
 /* Is the link between natural particles a and b a stretch link, i.e. do they sit at (i, j) and
    (i +- 1, j) or (i, j +- 1) of one piece? Bending links skip a node, shear links are diagonal and
    links between two pieces are seams, so none of those is a stretch link. along_u: it runs along i. */
-static PetscErrorCode ClothIsStretchLink(Cloth cloth, PetscInt a, PetscInt b, PetscBool *stretch, PetscBool *along_u)
+static PetscErrorCode ClothIsStretchLink(const ClothLayout *layout, PetscInt a, PetscInt b, PetscBool *stretch, PetscBool *along_u)
 {
-  const ClothModel m     = cloth->model;
-  const PetscInt   piece = ClothPieceOf(cloth, a);
+  const ClothModel m     = layout->model;
+  const PetscInt   piece = ClothPieceOf(layout, a);
   PetscInt         nu, la, lb, di, dj;
 
   PetscFunctionBeginUser;
   *stretch = PETSC_FALSE;
   if (b < m->piece_offset[piece] || b >= m->piece_offset[piece + 1]) PetscFunctionReturn(PETSC_SUCCESS);
-  nu       = cloth->scene->pieces[piece].nu;
+  nu       = layout->scene->pieces[piece].nu;
   la       = a - m->piece_offset[piece];
   lb       = b - m->piece_offset[piece];
   di       = PetscAbsInt(la % nu - lb % nu);
@@ -51,11 +51,11 @@ static PetscErrorCode ClothIsStretchLink(Cloth cloth, PetscInt a, PetscInt b, Pe
    ThreadWidth sets the stretch links' stiffness E w / l0 from the same width (there from the flat pattern: the
    two differ by the chord-to-arc ratio on a piece wrapped round an arm, under 1 % at 20 particles round), so
    that the stress of a link is E times its strain also on a piece's edge. */
-static PetscReal ClothThreadWidth(Cloth cloth, PetscInt a, PetscBool along_u)
+static PetscReal ClothThreadWidth(const ClothLayout *layout, PetscInt a, PetscBool along_u)
 {
-  const ClothModel m     = cloth->model;
-  const PetscInt   piece = ClothPieceOf(cloth, a);
-  const PetscInt   nu = cloth->scene->pieces[piece].nu, nv = cloth->scene->pieces[piece].nv;
+  const ClothModel m     = layout->model;
+  const PetscInt   piece = ClothPieceOf(layout, a);
+  const PetscInt   nu = layout->scene->pieces[piece].nu, nv = layout->scene->pieces[piece].nv;
   const PetscInt   la = a - m->piece_offset[piece], i = la % nu, j = la / nu;
   const PetscInt   stride = along_u ? nu : 1, index = along_u ? j : i, count = along_u ? nv : nu;
   PetscReal        sum = 0;
@@ -73,7 +73,7 @@ static PetscReal ClothThreadWidth(Cloth cloth, PetscInt a, PetscBool along_u)
 }
 
 /* The measure of one stretch link at positions xa, xb (natural ends a, b). */
-static PetscErrorCode ClothStretchLinkValue(Cloth cloth, const ClothLink *link, PetscInt a, PetscInt b, PetscBool along_u, const PetscReal xa[3], const PetscReal xb[3], ClothStretchMeasure measure, PetscReal *value)
+static PetscErrorCode ClothStretchLinkValue(const ClothLayout *layout, const ClothLink *link, PetscInt a, PetscInt b, PetscBool along_u, const PetscReal xa[3], const PetscReal xb[3], ClothStretchMeasure measure, PetscReal *value)
 {
   PetscReal d[3], f[3], l, width;
 
@@ -84,7 +84,7 @@ static PetscErrorCode ClothStretchLinkValue(Cloth cloth, const ClothLink *link, 
     *value = (l - link->rest) / link->rest;
     PetscFunctionReturn(PETSC_SUCCESS);
   }
-  width  = 0.5 * (ClothThreadWidth(cloth, a, along_u) + ClothThreadWidth(cloth, b, along_u));
+  width  = 0.5 * (ClothThreadWidth(layout, a, along_u) + ClothThreadWidth(layout, b, along_u));
   *value = 0;
   if (l == 0 || width == 0) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(ClothLinkEvaluate(link, xa, xb, PETSC_FALSE, NULL, f, NULL));
@@ -94,23 +94,23 @@ static PetscErrorCode ClothStretchLinkValue(Cloth cloth, const ClothLink *link, 
 
 /* Per local particle (owned and ghosts), 3 entries each: the largest measure of this rank's stretch links at
    it, in all three entries; -PETSC_MAX_REAL where this rank has none. */
-static PetscErrorCode ClothStretchLocal(Cloth cloth, const PetscScalar x[], ClothStretchMeasure measure, PetscScalar s[])
+static PetscErrorCode ClothStretchLocal(const ClothLayout *layout, const PetscScalar x[], ClothStretchMeasure measure, PetscScalar s[])
 {
   PetscFunctionBeginUser;
-  for (PetscInt i = 0; i < 3 * (cloth->nlocal + cloth->nghost); i++) s[i] = -PETSC_MAX_REAL;
-  for (PetscInt l = 0; l < cloth->nlinks; l++) {
-    const ClothLink *link = &cloth->links[l];
+  for (PetscInt i = 0; i < 3 * (layout->nlocal + layout->nghost); i++) s[i] = -PETSC_MAX_REAL;
+  for (PetscInt l = 0; l < layout->nlinks; l++) {
+    const ClothLink *link = &layout->links[l];
     const PetscInt   a = link->p[0], b = link->p[1];
     PetscBool        stretch, along_u;
     PetscReal        xa[3], xb[3], value;
 
-    PetscCall(ClothIsStretchLink(cloth, cloth->natural_of_local[a], cloth->natural_of_local[b], &stretch, &along_u));
+    PetscCall(ClothIsStretchLink(layout, layout->natural_of_local[a], layout->natural_of_local[b], &stretch, &along_u));
     if (!stretch) continue;
     for (PetscInt c = 0; c < 3; c++) {
       xa[c] = PetscRealPart(x[3 * a + c]);
       xb[c] = PetscRealPart(x[3 * b + c]);
     }
-    PetscCall(ClothStretchLinkValue(cloth, link, cloth->natural_of_local[a], cloth->natural_of_local[b], along_u, xa, xb, measure, &value));
+    PetscCall(ClothStretchLinkValue(layout, link, layout->natural_of_local[a], layout->natural_of_local[b], along_u, xa, xb, measure, &value));
     for (PetscInt c = 0; c < 3; c++) {
       s[3 * a + c] = PetscMax(PetscRealPart(s[3 * a + c]), value);
       s[3 * b + c] = PetscMax(PetscRealPart(s[3 * b + c]), value);
@@ -121,12 +121,19 @@ static PetscErrorCode ClothStretchLocal(Cloth cloth, const PetscScalar x[], Clot
 
 PetscErrorCode ClothCreateStrainVec(Cloth cloth, Vec *strain)
 {
-  PetscInt n;
+  PetscInt    n;
+  PetscBool   setup;
+  ClothLayout layout;
+  Vec         natural;
 
   PetscFunctionBeginUser;
-  PetscCheck(cloth->setup, cloth->comm, PETSC_ERR_ORDER, "Call ClothSetUp before ClothCreateStrainVec");
-  PetscCall(VecGetLocalSize(cloth->natural, &n));
-  PetscCall(VecCreateMPI(cloth->comm, n / 3, cloth->nglobal, strain));
+  PetscCall(ClothIsSetUp(cloth, &setup));
+  PetscCheck(setup, PETSC_COMM_SELF, PETSC_ERR_ORDER, "Call ClothSetUp before ClothCreateStrainVec");
+  PetscCall(ClothGetLayout(cloth, &layout));
+  PetscCall(ClothCreateNaturalVec(cloth, &natural)); /* one value per particle of its layout */
+  PetscCall(VecGetLocalSize(natural, &n));
+  PetscCall(VecDestroy(&natural));
+  PetscCall(VecCreateMPI(layout.comm, n / 3, layout.nglobal, strain));
   PetscCall(PetscObjectSetName((PetscObject)*strain, "strain"));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -138,8 +145,10 @@ static PetscErrorCode ClothComputeStretchField(Cloth cloth, Vec position, ClothS
   const PetscScalar *x;
   PetscScalar       *s;
   Vec                position_local;
+  ClothLayout        layout;
 
   PetscFunctionBeginUser;
+  PetscCall(ClothGetLayout(cloth, &layout));
   PetscCall(VecGhostUpdateBegin(position, INSERT_VALUES, SCATTER_FORWARD));
   PetscCall(VecGhostUpdateEnd(position, INSERT_VALUES, SCATTER_FORWARD));
   PetscCall(ClothCreateStateVec(cloth, &work));
@@ -147,7 +156,7 @@ static PetscErrorCode ClothComputeStretchField(Cloth cloth, Vec position, ClothS
   PetscCall(VecGhostGetLocalForm(work, &work_local));
   PetscCall(VecGetArrayRead(position_local, &x));
   PetscCall(VecGetArrayWrite(work_local, &s));
-  PetscCall(ClothStretchLocal(cloth, x, measure, s));
+  PetscCall(ClothStretchLocal(&layout, x, measure, s));
   PetscCall(VecRestoreArrayWrite(work_local, &s));
   PetscCall(VecRestoreArrayRead(position_local, &x));
   PetscCall(VecGhostRestoreLocalForm(work, &work_local));
@@ -156,7 +165,7 @@ static PetscErrorCode ClothComputeStretchField(Cloth cloth, Vec position, ClothS
   PetscCall(VecGhostUpdateEnd(work, MAX_VALUES, SCATTER_REVERSE));
   /* a particle without stretch links (a piece of one node) is unstrained */
   PetscCall(VecGetArray(work, &s));
-  for (PetscInt i = 0; i < 3 * cloth->nlocal; i++)
+  for (PetscInt i = 0; i < 3 * layout.nlocal; i++)
     if (PetscRealPart(s[i]) == -PETSC_MAX_REAL) s[i] = 0;
   PetscCall(VecRestoreArray(work, &s));
   PetscCall(ClothScatterParticleValuesToNatural(cloth, work, field));
@@ -180,9 +189,10 @@ PetscErrorCode ClothComputeStress(Cloth cloth, Vec position, Vec stress)
 
 PetscErrorCode ClothComputeParticleAreas(Cloth cloth, PetscReal area[])
 {
-  const ClothModel m = cloth->model;
+  ClothModel m;
 
   PetscFunctionBeginUser;
+  PetscCall(ClothGetModel(cloth, &m));
   PetscCall(PetscArrayzero(area, m->nparticles));
   for (PetscInt q = 0; q < m->nquads; q++) {
     const PetscInt *c = &m->quads[4 * q];
@@ -202,14 +212,16 @@ PetscErrorCode ClothComputeContactPressure(Cloth cloth, const PetscReal normal_f
   Vec          work;
   PetscScalar *p;
   PetscReal   *area;
+  ClothLayout  layout;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscMalloc1(cloth->model->nparticles, &area));
+  PetscCall(ClothGetLayout(cloth, &layout));
+  PetscCall(PetscMalloc1(layout.model->nparticles, &area));
   PetscCall(ClothComputeParticleAreas(cloth, area));
   PetscCall(ClothCreateStateVec(cloth, &work));
   PetscCall(VecGetArrayWrite(work, &p));
-  for (PetscInt i = 0; i < cloth->nlocal; i++) {
-    const PetscReal a     = area[cloth->natural_of_local[i]];
+  for (PetscInt i = 0; i < layout.nlocal; i++) {
+    const PetscReal a     = area[layout.natural_of_local[i]];
     const PetscReal value = normal_force && a > 0 ? normal_force[i] / a : 0;
     for (PetscInt c = 0; c < 3; c++) p[3 * i + c] = value;
   }

@@ -713,7 +713,7 @@ PetscErrorCode ClothCollisionSetUp(ClothCollision col)
   PetscCall(ClothCreateStateVec(col->cloth, &col->force));
   PetscCall(PushOutStartingInside(col));
   if (col->friction == CLOTH_COLLISION_FRICTION_IMPLICIT) {
-    const ClothContribution friction = {"body friction", col, NULL, NULL, AddFrictionToImplicitStep};
+    const ClothContribution friction = {.name = "body friction", .ctx = col, .add_to_implicit_step = AddFrictionToImplicitStep};
 
     PetscCall(ClothAddContribution(col->cloth, &friction));
   }

@@ -352,7 +352,7 @@ PetscErrorCode ClothIntegratorSetUp(ClothIntegrator integ)
 static PetscErrorCode SaveInternalState(ClothIntegrator integ, PetscInt slot)
 {
   PetscFunctionBeginUser;
-  PetscCall(ClothHysteresisSave(integ->cloth, slot));
+  PetscCall(ClothSaveState(integ->cloth, slot));
   if (integ->collision) PetscCall(ClothCollisionSave(integ->collision, slot));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -360,7 +360,7 @@ static PetscErrorCode SaveInternalState(ClothIntegrator integ, PetscInt slot)
 static PetscErrorCode RestoreInternalState(ClothIntegrator integ, PetscInt slot)
 {
   PetscFunctionBeginUser;
-  PetscCall(ClothHysteresisRestore(integ->cloth, slot));
+  PetscCall(ClothRestoreState(integ->cloth, slot));
   if (integ->collision) PetscCall(ClothCollisionRestore(integ->collision, slot));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -377,7 +377,7 @@ static PetscErrorCode StepOrHalve(ClothIntegrator integ, PetscReal h, PetscInt d
   PetscCall(VecCopy(v, integ->saved_velocity));
   PetscCall(SaveInternalState(integ, CLOTH_SLOT_ATTEMPT));
   PetscCall(UpdateSelfContact(integ, h));
-  PetscCall(ClothUpdateHysteresis(integ->cloth, x)); /* the sliders at the (sub-)step's start */
+  PetscCall(ClothBeginStep(integ->cloth, x)); /* the contributions' state at the (sub-)step's start: hysteresis sliders */
   integ->failure[0] = 0;
   PetscCall(integ->step(integ, h, ok, &its));
   if (!*ok && !integ->failure[0]) PetscCall(PetscSNPrintf(integ->failure, sizeof(integ->failure), "the state became non-finite (NaN or Inf)"));

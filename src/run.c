@@ -8,6 +8,7 @@
 #include "checkpoint.h"
 #include "selfcontact.h"
 #include "sewing.h"
+#include "hysteresis.h"
 #include "quality.h"
 #include "log.h"
 #include "options.h"

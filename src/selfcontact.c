@@ -845,11 +845,7 @@ static PetscErrorCode AddContribution(void *ctx, const ClothContributionArgs *ar
 PetscErrorCode ClothSelfContactGetContribution(ClothSelfContact sc, ClothContribution *contribution)
 {
   PetscFunctionBeginUser;
-  contribution->name                 = "self-contact";
-  contribution->ctx                  = sc;
-  contribution->add                  = AddContribution;
-  contribution->count_row_blocks     = CountRowBlocks;
-  contribution->add_to_implicit_step = AddFrictionToImplicitStep;
+  *contribution = (ClothContribution){.name = "self-contact", .ctx = sc, .add = AddContribution, .count_row_blocks = CountRowBlocks, .add_to_implicit_step = AddFrictionToImplicitStep};
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -1,6 +1,7 @@
 /* ClothSewing (see sewing.h). */
 #include "sewing.h"
 #include "seam.h"
+#include "seam_links.h"
 #include "options.h"
 
 #define SEAM_BAND 2         /* grid rows around a seam where cloth-cloth contact is not applied while it is pulled closed */
@@ -162,7 +163,7 @@ static PetscErrorCode ClothSewingApply(ClothSewing sewing)
 
   PetscFunctionBeginUser;
   PetscCall(ClothGetModel(sewing->cloth, &model));
-  PetscCall(ClothGetSeamLinks(sewing->cloth, &n, &links, &model_index));
+  PetscCall(ClothSeamLinksGetLocal(sewing->cloth, &n, &links, &model_index));
   for (PetscInt l = 0; l < n; l++) {
     const ClothSeamLink *global = &model->seamlinks[model_index[l]];
     PetscReal            mass   = 0;
@@ -199,7 +200,7 @@ static PetscErrorCode ClothSewingMeasure(ClothSewing sewing, PetscReal *max_gap)
   PetscFunctionBeginUser;
   *max_gap = 0;
   PetscCall(PetscArrayzero(sewing->closed, sewing->nlinks));
-  PetscCall(ClothGetSeamLinks(sewing->cloth, &n, &links, &model_index));
+  PetscCall(ClothSeamLinksGetLocal(sewing->cloth, &n, &links, &model_index));
   PetscCall(ClothGetLocalPositionArray(sewing->cloth, &x));
   for (PetscInt l = 0; l < n; l++) {
     const PetscReal *xs[CLOTH_SEAM_LINK_MAX_PARTICLES];
@@ -267,7 +268,7 @@ PetscErrorCode ClothSewingViewWidest(ClothSewing sewing, PetscInt n)
   if (n <= 0 || sewing->nlinks == 0) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(ClothGetModel(sewing->cloth, &model));
   PetscCall(PetscCalloc1(sewing->nlinks, &gap));
-  PetscCall(ClothGetSeamLinks(sewing->cloth, &nlocal, &links, &model_index));
+  PetscCall(ClothSeamLinksGetLocal(sewing->cloth, &nlocal, &links, &model_index));
   PetscCall(ClothGetLocalPositionArray(sewing->cloth, &x));
   for (PetscInt l = 0; l < nlocal; l++) {
     const PetscReal *xs[CLOTH_SEAM_LINK_MAX_PARTICLES];

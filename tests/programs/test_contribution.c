@@ -11,15 +11,19 @@
    translation only through rounding, measured 7e-12) and vanish once it is removed; (2) its
    energy is counted; (3) after the implicit steps every particle's displacement equals the recurrence's to
    -tolerance (default 1e-10 m, with -ksp_rtol 1e-13), while the sheet has moved by a good
-   fraction of |u0| (not a test of a sheet standing still). */
+   fraction of |u0| (not a test of a sheet standing still).
+   With -elements the same springs are one-particle elements handed to the cloth's own pass (add_elements,
+   ClothElementSinkAdd: the way seam links and hysteresis plug in) instead of add; the contribution then also counts
+   ClothBeginStep's calls through begin_step: (4) one per implicit step (a linear problem: no step is halved). */
 #include <petscksp.h>
 #include "test_support.h"
 #include "integrator.h"
 
 typedef struct {
   Cloth     cloth;
-  Vec       anchor; /* start positions */
-  PetscReal omega2; /* 1/s^2 */
+  Vec       anchor;      /* start positions */
+  PetscReal omega2;      /* 1/s^2 */
+  PetscInt  steps_begun; /* begin_step calls */
 } AnchorSprings;
 
 /* ClothContribution.add of the anchor springs. */
@@ -62,6 +66,49 @@ static PetscErrorCode AnchorSpringsAdd(void *ctx, const ClothContributionArgs *a
   PetscCall(VecRestoreArray(args->force, &f));
   PetscCall(VecRestoreArrayRead(a->anchor, &x0));
   PetscCall(VecRestoreArrayRead(args->position, &x));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* ClothContribution.add_elements of the same springs: one element per owned particle, in the cloth's pass. */
+static PetscErrorCode AnchorSpringsAddElements(void *ctx, ClothElementSink sink)
+{
+  AnchorSprings     *a = (AnchorSprings *)ctx;
+  const PetscReal   *mass;
+  const PetscScalar *x, *x0;
+  PetscBool          want_h;
+  PetscInt           nlocal;
+  ClothElement       e;
+
+  PetscFunctionBeginUser;
+  PetscCall(ClothElementSinkGetInput(sink, &x, &want_h, NULL));
+  PetscCall(ClothGetMasses(a->cloth, &mass, NULL));
+  PetscCall(ClothGetSizes(a->cloth, &nlocal, NULL));
+  PetscCall(VecGetArrayRead(a->anchor, &x0));
+  for (PetscInt i = 0; i < nlocal; i++) {
+    const PetscReal k = a->omega2 * mass[i];
+
+    e.np     = 1;
+    e.p[0]   = i;
+    e.energy = 0;
+    for (PetscInt c = 0; c < 3; c++) {
+      const PetscReal u = PetscRealPart(x[3 * i + c] - x0[3 * i + c]);
+
+      e.force[c] = -k * u;
+      e.energy += 0.5 * k * u * u;
+    }
+    if (want_h)
+      for (PetscInt r = 0; r < 9; r++) e.H[r] = r % 4 == 0 ? k : 0;
+    PetscCall(ClothElementSinkAdd(sink, &e));
+  }
+  PetscCall(VecRestoreArrayRead(a->anchor, &x0));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode AnchorSpringsBeginStep(void *ctx, Vec position)
+{
+  PetscFunctionBeginUser;
+  (void)position;
+  ((AnchorSprings *)ctx)->steps_begun++;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -148,19 +195,23 @@ int main(int argc, char **argv)
   AnchorSprings     ctx;
   ClothEnergy       e;
   Vec               x, v;
-  PetscBool         ok;
+  PetscBool         ok, elements = PETSC_FALSE;
 
   PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
   PetscCall(PetscOptionsGetReal(NULL, NULL, "-tolerance", &tolerance, NULL));
+  PetscCall(PetscOptionsGetBool(NULL, NULL, "-elements", &elements, NULL));
   PetscCall(TestClothFromOptions(&scene, &cloth));
   PetscCall(ClothGetState(cloth, &x, &v));
   PetscCall(VecDuplicate(x, &ctx.anchor));
   PetscCall(VecCopy(x, ctx.anchor));
   ctx.cloth                = cloth;
   ctx.omega2               = omega2;
+  ctx.steps_begun          = 0;
   springs.name             = "anchor springs";
   springs.ctx              = &ctx;
-  springs.add              = AnchorSpringsAdd;
+  springs.add              = elements ? NULL : AnchorSpringsAdd;
+  springs.add_elements     = elements ? AnchorSpringsAddElements : NULL;
+  springs.begin_step       = elements ? AnchorSpringsBeginStep : NULL;
   springs.count_row_blocks = NULL; /* diagonal blocks only: already in the pattern */
   PetscCall(ClothAddContribution(cloth, &springs));
 
@@ -209,6 +260,10 @@ int main(int argc, char **argv)
                         (double)err, (double)tolerance, (double)moved));
   PetscCheck(moved > 0.5, PETSC_COMM_WORLD, PETSC_ERR_PLIB, "the sheet hardly moved (%g of |u0|): the check would be vacuous", (double)moved);
   PetscCheck(err <= tolerance, PETSC_COMM_WORLD, PETSC_ERR_PLIB, "particles deviate from the backward Euler oscillator by %g m > %g m", (double)err, (double)tolerance);
+  if (elements) {
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "begin_step called %" PetscInt_FMT " times in %" PetscInt_FMT " steps\n", ctx.steps_begun, steps));
+    PetscCheck(ctx.steps_begun == steps, PETSC_COMM_SELF, PETSC_ERR_PLIB, "begin_step was called %" PetscInt_FMT " times in %" PetscInt_FMT " steps", ctx.steps_begun, steps);
+  }
   PetscCall(TestCheckExpectationsUsed());
   PetscCall(ClothIntegratorDestroy(&integ));
   PetscCall(VecDestroy(&ctx.anchor));

@@ -15,6 +15,7 @@
 #include <petscvec.h>
 #include "scene.h"
 #include "cloth.h"
+#include "seam_links.h"
 #include "test_support.h"
 
 /* A smooth, rank-independent perturbation of particle k's component c (natural order). */
@@ -87,7 +88,7 @@ static PetscErrorCode SetSeamStiffnesses(Cloth cloth, ClothModel model)
     link->pull_force = s % 2 ? 0.01 * (1 + 0.1 * (PetscReal)(s % 7)) : 0;
     link->k          = s % 2 ? link->pull_force / 0.01 : 500 + 10 * (PetscReal)(s % 5);
   }
-  PetscCall(ClothGetSeamLinks(cloth, &n, &links, &model_index));
+  PetscCall(ClothSeamLinksGetLocal(cloth, &n, &links, &model_index));
   for (PetscInt l = 0; l < n; l++) {
     links[l].pull_force = model->seamlinks[model_index[l]].pull_force;
     links[l].k          = model->seamlinks[model_index[l]].k;

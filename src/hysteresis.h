@@ -1,0 +1,21 @@
+/* Bending and shear hysteresis: the friction elements (forces.h, ClothAngle with slip > 0) beside the elastic angle
+   springs, and the state of their sliders. A contribution of the cloth (cloth.h): it owns this rank's friction
+   elements, adds them to the cloth's pass, moves the sliders when a (sub-)step starts (ClothBeginStep), saves and
+   restores them with the integrator's slots (ClothSaveState, ClothRestoreState), and gives them to checkpoints. */
+#pragma once
+#include "cloth.h"
+
+/* Creates the hysteresis contribution and registers it with the cloth (ClothSetUp does, for every cloth). Not
+   collective. */
+PetscErrorCode ClothHysteresisRegister(Cloth cloth);
+
+typedef enum {
+  CLOTH_SLIDERS_BEND, /* checkpoint field bend_slider: 4 per particle, cos and sin of the slider angle of the warp chain centred on it, then of the weft chain */
+  CLOTH_SLIDERS_SHEAR /* checkpoint field shear_slider: 2 per particle, cos and sin of the slider angle of the cell whose first corner (i, j) it is */
+} ClothSliderFamily;
+#define CLOTH_SLIDER_FAMILIES 2
+/* One family of sliders as a checkpoint field (natural order; 0 where there is none), named as its dataset.
+   Create gives NULL when the fabric has no friction elements of that family. Collective. */
+PetscErrorCode ClothHysteresisCreateStateVec(Cloth cloth, ClothSliderFamily family, Vec *state);
+PetscErrorCode ClothHysteresisGetState(Cloth cloth, ClothSliderFamily family, Vec state);
+PetscErrorCode ClothHysteresisSetState(Cloth cloth, ClothSliderFamily family, Vec state);
