@@ -19,7 +19,8 @@ share=$prefix/share/clothsim
 for f in bin/clothsim share/clothsim/input/dress.yaml share/clothsim/input/mannequin/makehuman_body.obj \
          share/clothsim/input/hanging_sheet.yaml share/clothsim/jobs/main_job.sbatch share/clothsim/jobs/clothsim_job.sh \
          share/clothsim/jobs/chain.sh share/clothsim/postprocess/cloth_state.py share/clothsim/postprocess/garment_quality.py \
-         share/clothsim/postprocess/elastica.py share/clothsim/postprocess/fabric_crossings.py; do
+         share/clothsim/postprocess/elastica.py share/clothsim/postprocess/fabric_crossings.py \
+         share/clothsim/postprocess/pvpython_xvfb.sh share/clothsim/postprocess/render.py; do
   [ -e "$prefix/$f" ] || fail "$f not installed"
 done
 [ ! -e "$share/tests" ] || fail "$share/tests installed: the installed tools must not depend on tests/"
@@ -36,7 +37,7 @@ grep -q -- "$prefix/bin/clothsim -scene input/dress.yaml" job.log || { cat job.l
 grep -q "run done: .*checkpoint_000003.h5 is at step 3 of 3" job.log || { cat job.log; fail "the run did not reach step 3"; }
 [ -f dress/dress.xdmf ] && [ -f dress/quality.json ] || fail "no output in $work/run/dress (OUTPUT_DIR relative to the submit directory)"
 grep -q "fabric crossings counted in frame 000003" job.log || { cat job.log; fail "the installed garment_quality.py did not run"; }
-renders=$(grep -c "^garment_outputs: render .*dress/dress.xdmf --frame -1 --view \(front\|side\|back\) --color-by \(piece\|strain\|pressure\)" job.log)
+renders=$(grep -c "^garment_outputs: render .*dress/dress.xdmf --frame -1 --view \(front\|side\|back\) --color-by \(fabric\|strain\|pressure\)" job.log)
 [ "$renders" = 7 ] || { cat job.log; fail "main_job.sbatch asked for $renders renders, expected 7 (3 views shaded as cloth, strain and pressure front and back)"; }
 grep -q "^garment_outputs: movie .*dress/dress.xdmf --out .*dress/dress.mp4" job.log || { cat job.log; fail "main_job.sbatch did not ask for the movie"; }
 ! grep -q "do not parse" job.log || { cat job.log; fail "a picture command of main_job.sbatch does not parse"; }
