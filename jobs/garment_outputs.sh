@@ -39,29 +39,24 @@ parses() {  # parses TOOL ARGS...: the tool's own argument parser accepts ARGS (
     "$root/postprocess" "$tool" "$@" < /dev/null || { say "the $tool arguments above do not parse"; parse_failures=$((parse_failures + 1)); }
 }
 
-# Rendering needs an X server (ParaView 5.11's pvpython crashes with --force-offscreen-rendering): a virtual one
-# when xvfb-run is there. xvfb-run -a can lose the race for a display number to another X server starting at the
-# same moment: a random start and up to three tries.
+# Rendering needs an X server: postprocess/pvpython_xvfb.sh starts a virtual one (and tries again when another X
+# server takes its display number), or uses the display there is when xvfb-run is missing.
 render() {  # render VIEW COLOUR OUT.png
   local args=("$xdmf" --frame -1 --view "$1" --color-by "$2" --size "$RENDER_SIZE" --out "$3")
   [ "$check" = 1 ] && { parses render "${args[@]}"; return; }
-  local try
-  for try in 1 2 3; do
-    if command -v xvfb-run > /dev/null; then
-      xvfb-run -a -n $((200 + RANDOM % 2000)) "$PVPYTHON" "$root/postprocess/render.py" "${args[@]}" < /dev/null > "$3.log" 2>&1
-    else
-      "$PVPYTHON" "$root/postprocess/render.py" "${args[@]}" < /dev/null > "$3.log" 2>&1
-    fi && { tail -n 1 "$3.log"; rm -f "$3.log"; return 0; }
-    sleep "$try"
-  done
-  say "the $2 render from the $1 failed (is ParaView installed, with xvfb?), see $3.log"
+  if PVPYTHON=$PVPYTHON bash "$root/postprocess/pvpython_xvfb.sh" "$root/postprocess/render.py" "${args[@]}" > "$3.log" 2>&1; then
+    tail -n 1 "$3.log"
+    rm -f "$3.log"
+  else
+    say "the $2 render from the $1 failed (is ParaView installed, with xvfb?), see $3.log"
+  fi
 }
 
 "$PYTHON" "$root/postprocess/garment_quality.py" "$output_dir" --name "$name" || say "the garment misses a quality target (see above)"
 [ "$RENDER" = 1 ] || exit 0
-# The garment shaded as cloth (a colour per pattern piece), then its fit maps: strain and the pressure on the body.
+# The garment shaded as cloth (a colour per fabric, the seams drawn), then its fit maps: strain and the pressure on the body.
 for view in front side back; do
-  render "$view" piece "$output_dir/${name}_$view.png"
+  render "$view" fabric "$output_dir/${name}_$view.png"
 done
 for map in strain pressure; do
   for view in front back; do
@@ -75,7 +70,7 @@ if [ "$MOVIE" = 1 ]; then
   if [ "$check" = 1 ]; then
     parses movie "${movie[@]}"
   else
-    "$PYTHON" "$root/postprocess/movie.py" "${movie[@]}" < /dev/null || say "the movie failed (are xvfb and ffmpeg installed?)"
+    PVPYTHON=$PVPYTHON "$PYTHON" "$root/postprocess/movie.py" "${movie[@]}" < /dev/null || say "the movie failed (are xvfb and ffmpeg installed?)"
   fi
 fi
 [ "$parse_failures" = 0 ] || { say "$parse_failures picture command(s) do not parse"; exit 1; }

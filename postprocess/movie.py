@@ -14,7 +14,6 @@ frames drawn and the wall time of each stage. Needs pvpython, xvfb-run and ffmpe
 import argparse
 import glob
 import os
-import random
 import shutil
 import subprocess
 import sys
@@ -32,7 +31,7 @@ def parse_args(argv):
     p.add_argument("--fps", type=int, default=12, help="frames per second (default 12)")
     p.add_argument("--size", default="640x480", help="WIDTHxHEIGHT, both even (default 640x480)")
     p.add_argument("--view", default="iso", help="render.py camera (default iso)")
-    p.add_argument("--color-by", default="piece", help="render.py fabric colouring (default piece: shaded as cloth)")
+    p.add_argument("--color-by", default="fabric", help="render.py fabric colouring (default fabric: shaded as cloth)")
     p.add_argument("--range", type=float, nargs=2, metavar=("MIN", "MAX"), help="render.py colour range of a fit map")
     p.add_argument("--zoom", type=float, default=1.0, help="render.py camera zoom (default 1)")
     p.add_argument("--t-max", type=float, help="only the frames up to this time, s (default: all)")
@@ -53,20 +52,15 @@ def parse_args(argv):
 
 
 def render_frames(args, folder):
-    """Runs render.py --sequence; retries when xvfb-run loses the race for a display number to another X server."""
-    command = ["/usr/bin/pvpython", os.path.join(HERE, "render.py"), args.xdmf, "--sequence", str(args.frames),
-               "--out", os.path.join(folder, "frame_%04d.png"), "--size", args.size, "--view", args.view,
-               "--color-by", args.color_by, "--zoom", str(args.zoom)]
+    """Runs render.py --sequence under a virtual X server of its own (pvpython_xvfb.sh)."""
+    command = ["bash", os.path.join(HERE, "pvpython_xvfb.sh"), os.path.join(HERE, "render.py"), args.xdmf,
+               "--sequence", str(args.frames), "--out", os.path.join(folder, "frame_%04d.png"), "--size", args.size,
+               "--view", args.view, "--color-by", args.color_by, "--zoom", str(args.zoom)]
     if args.range:
         command += ["--range"] + [str(v) for v in args.range]
     if args.t_max is not None:
         command += ["--t-max", str(args.t_max)]
-    for attempt in range(5):
-        run = subprocess.run(["xvfb-run", "-a", "-n", str(random.randint(200, 2200))] + command,
-                             stdin=subprocess.DEVNULL, capture_output=True, text=True)
-        if run.returncode == 0 or "bad X server connection" not in run.stdout + run.stderr:
-            break
-        time.sleep(1 + attempt)
+    run = subprocess.run(command, stdin=subprocess.DEVNULL, capture_output=True, text=True)
     if run.returncode != 0:
         sys.exit(f"movie.py: render.py failed:\n{run.stdout}{run.stderr}")
     return sorted(glob.glob(os.path.join(folder, "frame_*.png")))

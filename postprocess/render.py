@@ -9,8 +9,11 @@ angle. Runs under ParaView's Python, which needs an X server for rendering:
 Axes: y is up (docs/scene_format.md, gravity); the front is the +z side (the camera looks along -z), the side view looks
 along -x (from +x), the back along +z, the top down along -y. --up changes the up axis.
 The fabric is coloured by (--color-by):
-  piece     shaded as cloth: one fabric colour per pattern piece (the connected sets of quads of the series'
-            topology, in the order of the scene), lit, with smooth normals (ParaView's surface normals)
+  fabric    shaded as cloth: one colour per fabric of the scene (the run's scene, kept in the series' .h5, says which
+            fabric each pattern piece is cut from), lit, with smooth normals (ParaView's surface normals), each
+            piece's outline (its seams, hem and neckline) drawn as a darker line
+  piece     the same, but one colour per pattern piece (the connected sets of quads of the series' topology, in
+            the order of the scene's pieces)
   strain, stress, pressure
             a fit map: the per-particle fields of the series (relative stretch, membrane stress N/m, contact
             pressure on the body N/m^2), with a colour bar; the range is --range MIN MAX, else 0 up to the
@@ -18,7 +21,8 @@ The fabric is coloured by (--color-by):
             in the top colour
   speed     the particle speed |velocity| (the default)
   none      one colour
-Static meshes are light grey. Frames are numbered from 0; negative numbers count from the end (-1: the
+Static meshes are light grey. The camera frames the fabric (--fit fabric, the default) or everything drawn
+(--fit all). Frames are numbered from 0; negative numbers count from the end (-1: the
 last). Prints the frame's time and the number of points and cells drawn.
 
 With --sequence N the tool draws N frames spread evenly over the series, or its frames up to --t-max (all of
@@ -45,8 +49,8 @@ FIT_MAPS = {  # field: colour bar title
     "stress": "stress, N/m",
     "pressure": "pressure on the body, N/m^2",
 }
-# Fabric colours of --color-by piece, one per pattern piece in turn: muted dyed cottons. Twelve, so that the 10
-# pieces of the T-shirt under the dress (input/tshirt_dress.yaml) are all told apart.
+# Fabric colours of --color-by fabric (one per fabric of the scene) and piece (one per pattern piece), in turn: muted
+# dyed cottons. Twelve, so that the 10 pieces of the T-shirt under the dress (input/tshirt_dress.yaml) are all told apart.
 FABRIC_COLOURS = [(0.62, 0.16, 0.20), (0.18, 0.32, 0.55), (0.80, 0.62, 0.30), (0.25, 0.48, 0.36),
                   (0.50, 0.30, 0.55), (0.85, 0.45, 0.35), (0.35, 0.55, 0.70), (0.55, 0.50, 0.40),
                   (0.45, 0.50, 0.20), (0.15, 0.48, 0.50), (0.70, 0.55, 0.65), (0.30, 0.30, 0.36)]
@@ -60,7 +64,8 @@ def parse_args(argv):
     p.add_argument("--up", choices=["x", "y", "z"], default="y", help="the up axis of the scene (default y)")
     p.add_argument("--size", default="1000x1000", help="image size WIDTHxHEIGHT in pixels (default 1000x1000)")
     p.add_argument("--out", required=True, help="the PNG to write")
-    p.add_argument("--color-by", choices=["speed", "none", "piece"] + list(FIT_MAPS), default="speed", help="fabric colouring (default speed)")
+    p.add_argument("--color-by", choices=["speed", "none", "fabric", "piece"] + list(FIT_MAPS), default="speed", help="fabric colouring (default speed)")
+    p.add_argument("--fit", choices=["fabric", "all"], default="fabric", help="what the camera frames (default fabric)")
     p.add_argument("--range", type=float, nargs=2, metavar=("MIN", "MAX"), help="colour range of a fit map (default 0 .. 99th percentile)")
     p.add_argument("--sequence", type=int, default=0, help="draw this many frames spread over the series into --out, a printf pattern")
     p.add_argument("--t-max", type=float, help="with --sequence: only the frames up to this time, s")
@@ -145,22 +150,65 @@ def piece_labels(block):
     return labels
 
 
+CLOTH = ("fabric", "piece")  # the colourings shaded as cloth
+
+
+def scene_fabric_of_pieces(xdmf):
+    """Per pattern piece in the scene's order, the index of its fabric in the scene's fabrics: (the scene is kept in
+    the series' .h5 as the attribute scene_text); None when the series does not say."""
+    import h5py
+    import yaml
+    try:
+        with h5py.File(os.path.splitext(xdmf)[0] + ".h5", "r") as f:
+            text = f.attrs["scene_text"]
+        scene = yaml.safe_load(text.decode() if isinstance(text, bytes) else text)
+        fabrics = list(scene["fabrics"])
+        return [fabrics.index(piece["fabric"]) for piece in scene["pieces"]]
+    except (OSError, KeyError, ValueError, TypeError, yaml.YAMLError):
+        return None
+
+
+def cloth_labels(block, args):
+    """Per point, its colour's index: its pattern piece's (--color-by piece) or its piece's fabric's (fabric)."""
+    import numpy as np
+    labels = piece_labels(block)
+    if args.color_by == "fabric":
+        fabric_of = scene_fabric_of_pieces(args.xdmf)
+        if fabric_of is None or len(fabric_of) != labels.max() + 1:
+            print(f"render.py: warning: the fabrics of {args.xdmf}'s pieces are not known: a colour per piece", file=sys.stderr)
+        else:
+            labels = np.asarray(fabric_of)[labels]
+    return labels
+
+
+def draw_outlines(pv, view, surface, shown):
+    """The pattern pieces' outlines (the boundary edges of the fabric's surface: seams, hems, necklines) as dark
+    lines, as a pattern's seam lines."""
+    edges = pv.FeatureEdges(Input=surface)
+    edges.BoundaryEdges, edges.FeatureEdges, edges.NonManifoldEdges, edges.ManifoldEdges = 1, 0, 0, 0
+    shown.append(edges)
+    display = pv.Show(edges, view)
+    solid_colour(display, (0.12, 0.10, 0.10))
+    display.LineWidth = 1.5
+    display.Opacity = 0.6
+
+
 def colour_fabric(pv, view, display, block, args, source):
     """Colours one fabric block as --color-by asks; returns the pipeline object to show (smooth normals for
     piece)."""
     import numpy as np
     from vtk.util.numpy_support import numpy_to_vtk, vtk_to_numpy
-    if args.color_by == "piece":
-        labels = piece_labels(block)
+    if args.color_by in CLOTH:
+        labels = cloth_labels(block, args)
         array = numpy_to_vtk(labels.astype(np.float64), deep=True)
-        array.SetName("piece")
+        array.SetName(args.color_by)
         block.GetPointData().AddArray(array)
-        npieces = int(labels.max()) + 1
-        pv.ColorBy(display, ("POINTS", "piece"))
-        lut = pv.GetColorTransferFunction("piece")
+        ncolours = int(labels.max()) + 1
+        pv.ColorBy(display, ("POINTS", args.color_by))
+        lut = pv.GetColorTransferFunction(args.color_by)
         lut.InterpretValuesAsCategories = 1
-        lut.Annotations = sum(([str(k), str(k)] for k in range(npieces)), [])
-        lut.IndexedColors = sum((list(FABRIC_COLOURS[k % len(FABRIC_COLOURS)]) for k in range(npieces)), [])
+        lut.Annotations = sum(([str(k), str(k)] for k in range(ncolours)), [])
+        lut.IndexedColors = sum((list(FABRIC_COLOURS[k % len(FABRIC_COLOURS)]) for k in range(ncolours)), [])
         display.SetScalarBarVisibility(view, False)
         display.Specular = 0.05   # cotton: matt
         display.Ambient = 0.15
@@ -181,6 +229,8 @@ def colour_fabric(pv, view, display, block, args, source):
         bar = pv.GetScalarBar(lut, view)
         bar.Title = FIT_MAPS[field]
         bar.ComponentTitle = ""
+        bar.AutomaticLabelFormat = 0   # 140, 0.0173: not 1.4e+02
+        bar.LabelFormat = bar.RangeLabelFormat = "%.3g"
         bar.TitleColor = bar.LabelColor = [0.1, 0.1, 0.1]
         display.SetScalarBarVisibility(view, True)
         return
@@ -199,10 +249,11 @@ def colour_fabric(pv, view, display, block, args, source):
 
 
 def draw_frame(pv, view, algorithm, time, args):
-    """Shows the blocks of the series at time; returns (the sources shown, points, cells, fabric seen)."""
+    """Shows the blocks of the series at time; returns (the sources shown, points, cells, the fabric's bounds or
+    None)."""
     algorithm.UpdateTimeStep(time)
     data = algorithm.GetOutputDataObject(0)
-    shown, npoints, ncells, fabric_seen = [], 0, 0, False
+    shown, npoints, ncells, fabric_bounds = [], 0, 0, None
     for name, block in split_blocks(data):
         if block is None or block.GetNumberOfPoints() == 0:
             continue
@@ -214,13 +265,15 @@ def draw_frame(pv, view, algorithm, time, args):
         npoints += copy.GetNumberOfPoints()
         ncells += copy.GetNumberOfCells()
         if name.startswith("fabric"):
-            fabric_seen = True
-            if args.color_by == "piece":   # smooth shading: point normals averaged over the cells around
+            b = copy.GetBounds()
+            fabric_bounds = b if fabric_bounds is None else [f(x, y) for f, x, y in zip((min, max) * 3, fabric_bounds, b)]
+            if args.color_by in CLOTH:   # smooth shading: point normals averaged over the cells around
                 surface = pv.ExtractSurface(Input=source)
                 smooth = pv.GenerateSurfaceNormals(Input=surface)
                 smooth.Splitting = 0
                 shown += [surface, smooth]
                 display = pv.Show(smooth, view)
+                draw_outlines(pv, view, surface, shown)
             else:
                 display = pv.Show(source, view)
             if args.edges:
@@ -230,7 +283,7 @@ def draw_frame(pv, view, algorithm, time, args):
         else:
             display = pv.Show(source, view)
             solid_colour(display, (0.8, 0.8, 0.8))
-    return shown, npoints, ncells, fabric_seen
+    return shown, npoints, ncells, fabric_bounds
 
 
 def add_meshes(pv, view, args):
@@ -251,14 +304,19 @@ def add_meshes(pv, view, args):
     return npoints, ncells
 
 
-def place_camera(pv, view, args):
+def place_camera(pv, view, args, fabric_bounds):
+    """The camera of --view, fitted to the fabric's bounds (--fit fabric) or to everything drawn."""
     direction, up = VIEWS[args.view]
     direction, up = rotate_to_up(direction, args.up), rotate_to_up(up, args.up)
     view.CameraFocalPoint = [0, 0, 0]
     view.CameraPosition = list(direction)
     view.CameraViewUp = list(up)
     view.CameraParallelProjection = 0
-    view.ResetCamera(False)
+    if args.fit == "fabric" and fabric_bounds is not None:
+        view.ResetCamera(*fabric_bounds)
+        pv.GetActiveCamera().Zoom(0.92)   # a margin: the neck and the hem off the picture's edges
+    else:
+        view.ResetCamera(False)
     if args.zoom != 1.0:
         pv.GetActiveCamera().Zoom(args.zoom)
 
@@ -307,13 +365,13 @@ def main(argv):
         time = times[frame]
         for source in reversed(shown):
             pv.Delete(source)
-        shown, npoints, ncells, fabric_seen = draw_frame(pv, view, algorithm, time, args)
-        if not fabric_seen:
+        shown, npoints, ncells, fabric_bounds = draw_frame(pv, view, algorithm, time, args)
+        if fabric_bounds is None:
             print(f"render.py: warning: no fabric block in {args.xdmf} at t = {time}", file=sys.stderr)
         if label is not None:
             label.Text = f"t = {time:.3f} s  ({os.path.basename(args.xdmf)}, frame {frame} of {len(times)})"
         if count == 0:  # one camera for a whole sequence, fitted to its first frame
-            place_camera(pv, view, args)
+            place_camera(pv, view, args, fabric_bounds)
         out = args.out % count if args.sequence else args.out
         pv.SaveScreenshot(out, view, ImageResolution=[args.width, args.height])
         print(f"render.py: {out}: {args.width}x{args.height}, view {args.view}, t = {time:g} s "

@@ -64,15 +64,8 @@ PY
     [ -x "$pv" ] && command -v xvfb-run > /dev/null || fail "pvpython or xvfb-run missing: install paraview python3-paraview xvfb xauth (scripts/install_deps.sh)"
     "$pv" "$root/postprocess/render.py" --help | grep -q -- "--view" || fail "render.py --help"
     for view in front side; do
-      # xvfb-run -a can lose a race for a display number to another X server starting at the same
-      # moment ("bad X server connection"): start the search at a random number and try again, at most
-      # five times.
-      for try in 1 2 3 4 5; do
-        xvfb-run -a -n $((200 + RANDOM % 2000)) "$pv" "$root/postprocess/render.py" "$work/run/hanging_sheet.xdmf" --frame -1 --view "$view" \
-          --size 320x240 --out "$work/render_$view.png" > "$work/render_$view.log" 2>&1 && break
-        grep -q "bad X server connection" "$work/render_$view.log" || break
-        sleep $try
-      done
+      PVPYTHON=$pv bash "$root/postprocess/pvpython_xvfb.sh" "$root/postprocess/render.py" "$work/run/hanging_sheet.xdmf" --frame -1 --view "$view" \
+        --size 320x240 --out "$work/render_$view.png" > "$work/render_$view.log" 2>&1
       grep -q "render.py: " "$work/render_$view.log" || { cat "$work/render_$view.log"; fail "render.py --view $view"; }
       grep -q "t = 0.1 s (frame 4 of 5), 81 points, 64 cells" "$work/render_$view.log" || { cat "$work/render_$view.log"; fail "render.py drew the wrong frame or mesh"; }
       [ "$(png_size "$work/render_$view.png")" = "320 240" ] || fail "render_$view.png is $(png_size "$work/render_$view.png"), expected 320 240"
@@ -98,16 +91,12 @@ PY
     [ "$got" = "320,240,5" ] || fail "movie.mp4: width,height,frames = $got, expected 320,240,5"
     # Stills: shaded as cloth and coloured by the strain map; each draws the sheet (not the empty white
     # image), and the two differ (the map is not the cloth colour).
-    for colour in piece strain; do
-      for try in 1 2 3 4 5; do
-        xvfb-run -a -n $((200 + RANDOM % 2000)) /usr/bin/pvpython "$root/postprocess/render.py" "$work/run/hanging_sheet.xdmf" --frame -1 \
-          --view iso --color-by $colour --size 320x240 --no-label --out "$work/still_$colour.png" > "$work/still_$colour.log" 2>&1 && break
-        grep -q "bad X server connection" "$work/still_$colour.log" || break
-        sleep $try
-      done
+    for colour in fabric strain; do
+      PVPYTHON=/usr/bin/pvpython bash "$root/postprocess/pvpython_xvfb.sh" "$root/postprocess/render.py" "$work/run/hanging_sheet.xdmf" \
+        --frame -1 --view iso --color-by $colour --size 320x240 --no-label --out "$work/still_$colour.png" > "$work/still_$colour.log" 2>&1
       [ -f "$work/still_$colour.png" ] || { cat "$work/still_$colour.log"; fail "render.py --color-by $colour"; }
     done
-    $py - "$work/still_piece.png" "$work/still_strain.png" <<'PY' || fail "the stills are blank or alike"
+    $py - "$work/still_fabric.png" "$work/still_strain.png" <<'PY' || fail "the stills are blank or alike"
 import sys, matplotlib.image as im
 a, b = (im.imread(path)[..., :3] for path in sys.argv[1:3])
 drawn = [float((x.min(axis=2) < 0.9).mean()) for x in (a, b)]
