@@ -48,11 +48,7 @@ if [ "$RUN" = 1 ]; then
     else
       options+=(-output_overwrite)
     fi
-    echo "dress_fitted: mpiexec -n $RANKS build/clothsim ${options[*]}"
-    start=$(date +%s)
-    mpiexec -n "$RANKS" build/clothsim "${options[@]}" || { echo "dress_fitted: the $level run failed"; exit 1; }
-    echo "dress_fitted: $level: $(($(date +%s) - start)) s wall on $RANKS ranks"
-    bash jobs/garment_outputs.sh "$out" "$name"
+    RANKS=$RANKS bash jobs/garment_run.sh "dress_fitted: $level" "$out" "$name" "${options[@]}" || exit 1
   done
 fi
 

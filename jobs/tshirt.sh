@@ -31,9 +31,5 @@ for garment in "${garments[@]}"; do
   out=output/$name
   # -output_every 5: a frame every 0.02 s, for the movie of the assembly (as scripts/run_main.sh).
   options=(-scene "$scene" -output_dir "$out" -output_overwrite -cloth_stiffness gauss_newton -output_every 5 -progress_seconds 30)
-  echo "tshirt: mpiexec -n $RANKS build/clothsim ${options[*]}"
-  start=$(date +%s)
-  mpiexec -n "$RANKS" build/clothsim "${options[@]}" || { echo "tshirt: the $garment run failed"; exit 1; }
-  echo "tshirt: $garment: $(($(date +%s) - start)) s wall on $RANKS ranks"
-  bash jobs/garment_outputs.sh "$out" "$name"
+  RANKS=$RANKS bash jobs/garment_run.sh "tshirt: $garment" "$out" "$name" "${options[@]}" || exit 1
 done
