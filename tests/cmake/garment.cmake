@@ -37,7 +37,7 @@ set_property(TEST garment_dress_fitted_coarse APPEND PROPERTY ENVIRONMENT "CLOTH
 # garments and fabric_crossings_between_garments). Measured 2026-11-26 (this test): 162/162 sewn (all by t = 0.144 s),
 # 1.06 mm (the straps' seams), 0 inside, 0 crossings (0 in the T-shirt, 0 in the dress, 0
 # between them), strain 0.091 (the bodice's top at the straps), 7.7e-5 J, 178 Krylov its/step (111,246 in 625
-# steps); 204 s wall on the shared machine at a load of about 11. It fails on the scenes tried before this one
+# steps); 76 s in the idle CI run of 2026-11-26 (204 s on the shared machine at a load of about 11). It fails on the scenes tried before this one
 # (docs/results.md, "Layering"): the straps through the T-shirt's back (18 crossings, strain 0.30) at a pull of
 # 1000 m/s^2, the skirt's hems crossed (15) at 300, side seams held open by the T-shirt's folds or its sleeves.
 clothsim_add_script_test(garment_layered_coarse garment_coarse.sh input/tshirt_dress.yaml "25 25=13 13" "21 9=11 5" "26 11=26 6" "4 32=4 16" "33 25=17 13")
