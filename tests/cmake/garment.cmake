@@ -45,3 +45,8 @@ clothsim_add_script_test(garment_layered_coarse garment_coarse.sh input/tshirt_d
 # and test suites, load about 20) it ran out of 1200 s at t = 1.84 s of 2.5, with garment_dress_coarse out of
 # 1200 s beside it (36 s quiet); the timeout guards against a hung run, it does not time the test.
 set_tests_properties(garment_layered_coarse PROPERTIES TIMEOUT 3000 LABELS garment)
+
+# Each garment test runs clothsim on 2 ranks (tests/drivers/garment_coarse.sh): PROCESSORS 2 keeps ctest -j2 from running
+# another test beside it. Two of them side by side put 4 busy-polling MPI ranks on 2 cores: in a CI run of 2026-11-26
+# garment_dress_fitted_coarse then took 9 minutes for its first 86 of 750 steps (137 s for all of them alone).
+set_tests_properties(garment_dress_coarse garment_tshirt_coarse garment_dress_fitted_coarse garment_layered_coarse PROPERTIES PROCESSORS 2)
