@@ -1,6 +1,7 @@
 /* ClothPreconditioner (see preconditioner.h). */
 #include "preconditioner.h"
 #include "gridhierarchy.h"
+#include "block_ptap.h"
 
 /* The default preconditioner (docs/performance.md, "Pattern-grid multigrid"):
    - a scene without seams (sheets, drapes): the pattern-grid multigrid from CLOTH_PC_GRID_MIN_PARTICLES particles on.
@@ -48,12 +49,14 @@
 #define CLOTH_PC_MIN_ITERATIONS 4
 
 struct _n_ClothPreconditioner {
-  KSP                ksp;      /* borrowed */
-  Cloth              cloth;    /* borrowed */
-  ClothGridHierarchy grid;     /* the pattern-grid levels of -pc_type mg, else NULL */
-  Mat               *coarse;   /* their operators, coarse[l] of level l < nlevels - 1 */
-  PetscBool          kept;     /* the preconditioner is kept between steps (multilevel types) */
-  PetscBool          copy_aij; /* it is built from an AIJ copy P of the (block) matrix */
+  KSP                ksp;           /* borrowed */
+  Cloth              cloth;         /* borrowed */
+  ClothGridHierarchy grid;          /* the pattern-grid levels of -pc_type mg, else NULL */
+  Mat               *coarse;        /* their operators, coarse[l] of level l < nlevels - 1 */
+  PetscBool          block_product; /* the finest Galerkin product is taken of the block matrix itself (block_ptap.h) */
+  ClothBlockPtAP     block_ptap;    /* that product, while the matrix's nonzero pattern lasts */
+  PetscBool          kept;          /* the preconditioner is kept between steps (multilevel types) */
+  PetscBool          copy_aij;      /* it is built from an AIJ copy P of the (block) matrix */
   PetscReal          lag_ratio, rebuild_ratio;
   PetscBool          rigid_body; /* near-null space: the six rigid-body modes (else the three translations) */
   Mat                A;          /* the matrix of the last Prepare (borrowed: a new one means a new pattern) */
@@ -149,6 +152,7 @@ PetscErrorCode ClothPreconditionerCreate(KSP ksp, Cloth cloth, ClothPrecondition
   p->lag_pause     = CLOTH_PC_DEFAULT_LAG_PAUSE;
   p->pending       = CLOTH_PC_REBUILD;
   p->h             = -1;
+  p->block_product = PETSC_TRUE;
   PetscOptionsBegin(PetscObjectComm((PetscObject)ksp), NULL, "Implicit solve: default preconditioner", "ClothPreconditioner");
   PetscCall(PetscOptionsInt("-implicit_pc_grid_min_particles", "Default preconditioner of a scene without seams: the pattern-grid multigrid (mg) from this many particles on, point-block Jacobi below (-pc_type overrides)", "ClothPreconditionerCreate",
                             grid_min_particles, &grid_min_particles, NULL));
@@ -177,6 +181,8 @@ static PetscErrorCode SetUpGridMultigrid(ClothPreconditioner pre, PC pc)
   PetscCall(PetscOptionsInt("-implicit_pc_grid_ratio", "Pattern-grid multigrid: keep every ratio-th row and column of each piece on the next coarser level", "ClothGridHierarchyCreate", ratio, &ratio, NULL));
   PetscCall(PetscOptionsInt("-implicit_pc_grid_levels", "Pattern-grid multigrid: at most this many levels, the cloth included", "ClothGridHierarchyCreate", max_levels, &max_levels, NULL));
   PetscCall(PetscOptionsInt("-implicit_pc_grid_coarse_particles", "Pattern-grid multigrid: coarsen until a level has at most this many particles (solved directly)", "ClothGridHierarchyCreate", coarse_particles, &coarse_particles, NULL));
+  PetscCall(PetscOptionsBool("-implicit_pc_grid_block_product", "Pattern-grid multigrid: take the finest Galerkin product of the block (BAIJ) matrix itself (false: of an AIJ copy, by MatPtAP)", "ClothBlockPtAPCreate", pre->block_product,
+                             &pre->block_product, NULL));
   PetscOptionsEnd();
   PetscCheck(max_levels >= 1 && max_levels <= CLOTH_GRID_MAX_LEVELS, PetscObjectComm((PetscObject)pc), PETSC_ERR_USER_INPUT, "-implicit_pc_grid_levels %" PetscInt_FMT ": expected 1 to %d", max_levels, CLOTH_GRID_MAX_LEVELS);
   PetscCheck(coarse_particles >= 1, PetscObjectComm((PetscObject)pc), PETSC_ERR_USER_INPUT, "-implicit_pc_grid_coarse_particles %" PetscInt_FMT ": expected a positive count", coarse_particles);
@@ -189,8 +195,9 @@ static PetscErrorCode SetUpGridMultigrid(ClothPreconditioner pre, PC pc)
     PetscCall(ClothGridHierarchyGetInterpolation(pre->grid, l, &P));
     PetscCall(PCMGSetInterpolation(pc, l, P));
   }
-  /* The coarse operators are Galerkin products of the AIJ copy, made here (RefreshGridOperators): PCMG's own products
-     would also be taken of the block matrix, which MatPtAP does not support, when the finest level streams it. */
+  /* The coarse operators are Galerkin products made here (RefreshGridOperators): the finest one of the block matrix
+     itself (ClothBlockPtAP), which MatPtAP does not support, or of an AIJ copy; the coarser ones by MatPtAP. */
+  pre->copy_aij = pre->block_product ? PETSC_FALSE : PETSC_TRUE;
   PetscCall(PCMGSetGalerkin(pc, PC_MG_GALERKIN_NONE));
   PetscCall(PetscCalloc1(nlevels, &pre->coarse));
   /* the levels' solvers exist only now: they read their -mg_levels_ and -mg_coarse_ options here */
@@ -305,20 +312,43 @@ static PetscErrorCode SmoothFinestLevelWith(ClothPreconditioner pre, Mat A, Mat 
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* The pattern-grid levels' operators, from the finest level's AIJ matrix P down: P_l^T B_l P_l, the storage of the
-   products kept (their symbolic part is done once per nonzero pattern of A). The finest level's residual is A's. */
+/* The first coarse level's operator P^T A P of the block matrix A itself (ClothBlockPtAP), into pre->coarse[l - 1]. */
+static PetscErrorCode BlockGalerkinProduct(ClothPreconditioner pre, PetscInt l, Mat A, Mat interpolation, PetscBool new_pattern)
+{
+  PetscFunctionBeginUser;
+  if (new_pattern || !pre->block_ptap) {
+    PetscCall(ClothBlockPtAPDestroy(&pre->block_ptap));
+    PetscCall(MatDestroy(&pre->coarse[l - 1]));
+    PetscCall(ClothBlockPtAPCreate(A, interpolation, &pre->block_ptap));
+    PetscCall(ClothBlockPtAPGetProduct(pre->block_ptap, &pre->coarse[l - 1]));
+    PetscCall(PetscObjectReference((PetscObject)pre->coarse[l - 1]));
+  }
+  PetscCall(ClothBlockPtAPCompute(pre->block_ptap, A));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The pattern-grid levels' operators, from the finest level's matrix P down: P_l^T B_l P_l, the storage of the
+   products kept (their symbolic part is done once per nonzero pattern of A). The finest product is taken of the
+   block matrix itself when P is one (-implicit_pc_grid_block_product), else by MatPtAP of P (AIJ). The finest
+   level's residual is A's. */
 static PetscErrorCode RefreshGridOperators(ClothPreconditioner pre, PC pc, Mat A, Mat P, PetscBool new_pattern)
 {
-  PetscInt nlevels;
-  Mat      fine = P, interpolation;
-  KSP      smoother;
+  PetscInt  nlevels;
+  Mat       fine = P, interpolation;
+  KSP       smoother;
+  PetscBool baij;
 
   PetscFunctionBeginUser;
   PetscCall(ClothGridHierarchyGetLevels(pre->grid, &nlevels));
+  PetscCall(PetscObjectTypeCompareAny((PetscObject)P, &baij, MATSEQBAIJ, MATMPIBAIJ, ""));
   for (PetscInt l = nlevels - 1; l > 0; l--) {
-    if (new_pattern) PetscCall(MatDestroy(&pre->coarse[l - 1]));
     PetscCall(ClothGridHierarchyGetInterpolation(pre->grid, l, &interpolation));
-    PetscCall(MatPtAP(fine, interpolation, pre->coarse[l - 1] ? MAT_REUSE_MATRIX : MAT_INITIAL_MATRIX, PETSC_DEFAULT, &pre->coarse[l - 1]));
+    if (l == nlevels - 1 && baij)
+      PetscCall(BlockGalerkinProduct(pre, l, P, interpolation, new_pattern));
+    else {
+      if (new_pattern) PetscCall(MatDestroy(&pre->coarse[l - 1]));
+      PetscCall(MatPtAP(fine, interpolation, pre->coarse[l - 1] ? MAT_REUSE_MATRIX : MAT_INITIAL_MATRIX, PETSC_DEFAULT, &pre->coarse[l - 1]));
+    }
     PetscCall(PCMGGetSmoother(pc, l - 1, &smoother));
     PetscCall(KSPSetOperators(smoother, pre->coarse[l - 1], pre->coarse[l - 1]));
     fine = pre->coarse[l - 1];
@@ -456,6 +486,7 @@ PetscErrorCode ClothPreconditionerDestroy(ClothPreconditioner *pre)
   PetscFunctionBeginUser;
   if (!*pre) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(MatDestroy(&(*pre)->P));
+  PetscCall(ClothBlockPtAPDestroy(&(*pre)->block_ptap));
   PetscCall(VecDestroy(&(*pre)->coords));
   if ((*pre)->grid) {
     PetscInt nlevels;

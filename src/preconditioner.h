@@ -20,9 +20,10 @@
    -implicit_pc_rebuild_ratio times the iterations after the last rebuild (the sheet has moved so far that the
    aggregates no longer fit). A new matrix (new nonzero pattern) and
    ClothPreconditionerRequestRebuild force a rebuild, a change of the step size (a halved step) a refresh.
-   GAMG and the Galerkin products need a scalar (AIJ) matrix; when the implicit matrix is BAIJ or SBAIJ, the preconditioner is built from
-   an AIJ copy made only when it is refreshed or rebuilt, while the Krylov method and the finest smoother stream
-   the block matrix itself (PCSetUseAmat).
+   GAMG needs a scalar (AIJ) matrix; when the implicit matrix is BAIJ or SBAIJ, GAMG is built from an AIJ copy made
+   only when it is refreshed or rebuilt, while the Krylov method and the finest smoother stream the block matrix
+   itself (PCSetUseAmat). The pattern-grid multigrid needs no copy: its finest Galerkin product is taken of the block
+   matrix itself (block_ptap.h; -implicit_pc_grid_block_product false goes back to the AIJ copy and MatPtAP).
 
    Preconditioners without a set-up worth saving (point-block Jacobi, ICC, ...) are set up every step, as before. */
 #pragma once

@@ -1,0 +1,367 @@
+/* ClothBlockPtAP (see block_ptap.h). */
+#include "block_ptap.h"
+#include "log.h"
+
+#define BS 3
+#define BS2 9
+
+struct _n_ClothBlockPtAP {
+  PetscInt       nlocal, nghost; /* A's owned block rows; its off-process block columns (garray) */
+  PetscInt      *poffset;        /* nlocal + nghost + 1: where the parents of fine particle k start (owned, then ghosts) */
+  PetscInt      *parent;         /* the coarse (global block) indices each fine particle interpolates from */
+  PetscScalar   *weight;         /* and their weights */
+  PetscInt       cstart, cend;   /* C's owned block rows */
+  PetscInt       nremote;        /* coarse rows owned elsewhere that this rank's fine rows add to */
+  PetscInt      *remote;         /* sorted */
+  Mat            L;              /* SEQBAIJ: the sums of this rank, rows cstart..cend-1 then remote[], global columns */
+  Mat            C;
+  PetscInt       rmax; /* room in rcol, rval: R = A(i,:) P of one fine row */
+  PetscInt      *rcol;
+  PetscScalar   *rval;
+  PetscLogDouble flops; /* of the current product, for -log_view */
+};
+
+/* A's own blocks: the diagonal part (columns local) and, in parallel, the off-process part (columns through garray). */
+typedef struct {
+  Mat             Ad, Ao;
+  const PetscInt *garray;
+  const PetscInt *ia, *ja, *ib, *jb;
+  PetscScalar    *va, *vb;
+} BlockRows;
+
+static PetscErrorCode BlockRowsGet(Mat A, BlockRows *rows)
+{
+  PetscBool mpi, seq, done;
+  PetscInt  n;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectTypeCompare((PetscObject)A, MATMPIBAIJ, &mpi));
+  PetscCall(PetscObjectTypeCompare((PetscObject)A, MATSEQBAIJ, &seq));
+  if (!mpi && !seq) {
+    MatType type;
+    PetscCall(MatGetType(A, &type));
+    SETERRQ(PetscObjectComm((PetscObject)A), PETSC_ERR_SUP, "Block Galerkin product of a %s matrix: expected seqbaij or mpibaij", type);
+  }
+  rows->Ao = NULL, rows->garray = NULL, rows->ib = rows->jb = NULL, rows->vb = NULL;
+  if (mpi)
+    PetscCall(MatMPIBAIJGetSeqBAIJ(A, &rows->Ad, &rows->Ao, &rows->garray));
+  else
+    rows->Ad = A;
+  PetscCall(MatGetRowIJ(rows->Ad, 0, PETSC_FALSE, PETSC_TRUE, &n, &rows->ia, &rows->ja, &done));
+  PetscCheck(done, PETSC_COMM_SELF, PETSC_ERR_SUP, "No block row structure of the diagonal part");
+  PetscCall(MatSeqBAIJGetArray(rows->Ad, &rows->va));
+  if (rows->Ao) {
+    PetscCall(MatGetRowIJ(rows->Ao, 0, PETSC_FALSE, PETSC_TRUE, &n, &rows->ib, &rows->jb, &done));
+    PetscCheck(done, PETSC_COMM_SELF, PETSC_ERR_SUP, "No block row structure of the off-process part");
+    PetscCall(MatSeqBAIJGetArray(rows->Ao, &rows->vb));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode BlockRowsRestore(BlockRows *rows)
+{
+  PetscBool done;
+  PetscInt  n;
+
+  PetscFunctionBeginUser;
+  PetscCall(MatSeqBAIJRestoreArray(rows->Ad, &rows->va));
+  PetscCall(MatRestoreRowIJ(rows->Ad, 0, PETSC_FALSE, PETSC_TRUE, &n, &rows->ia, &rows->ja, &done));
+  if (rows->Ao) {
+    PetscCall(MatSeqBAIJRestoreArray(rows->Ao, &rows->vb));
+    PetscCall(MatRestoreRowIJ(rows->Ao, 0, PETSC_FALSE, PETSC_TRUE, &n, &rows->ib, &rows->jb, &done));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The parents of the fine particles from the interpolation rows 3 g (g: the particles' global indices), k-th
+   particle's from row k of Q; pass 0 counts into poffset[first + k + 1], pass 1 fills. */
+static PetscErrorCode ReadParents(ClothBlockPtAP ptap, Mat Q, PetscInt qstart, PetscInt n, PetscInt first, PetscInt pass)
+{
+  PetscFunctionBeginUser;
+  for (PetscInt k = 0; k < n; k++) {
+    const PetscInt    *cols;
+    const PetscScalar *vals;
+    PetscInt           ncols;
+    PetscCall(MatGetRow(Q, qstart + k, &ncols, &cols, &vals));
+    if (pass == 0) ptap->poffset[first + k + 1] = ncols;
+    for (PetscInt c = 0; pass == 1 && c < ncols; c++) {
+      PetscCheck(cols[c] % BS == 0, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONG, "Interpolation row %" PetscInt_FMT " has column %" PetscInt_FMT ": expected the scalar weights times the 3x3 identity", qstart + k, cols[c]);
+      ptap->parent[ptap->poffset[first + k] + c] = cols[c] / BS;
+      ptap->weight[ptap->poffset[first + k] + c] = vals[c];
+    }
+    PetscCall(MatRestoreRow(Q, qstart + k, &ncols, &cols, &vals));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The interpolation rows of the owned fine particles and of A's ghosts (fetched from their owners). */
+static PetscErrorCode GetParents(ClothBlockPtAP ptap, Mat P, const BlockRows *rows)
+{
+  PetscInt rstart, ncols;
+  IS       isrow, iscol;
+  Mat     *ghost = NULL;
+
+  PetscFunctionBeginUser;
+  PetscCall(MatGetOwnershipRange(P, &rstart, NULL));
+  PetscCall(MatGetSize(P, NULL, &ncols));
+  if (rows->Ao) { /* collective: also on a rank without ghosts */
+    PetscInt *prow;
+    PetscCall(PetscMalloc1(ptap->nghost, &prow));
+    for (PetscInt k = 0; k < ptap->nghost; k++) prow[k] = BS * rows->garray[k];
+    PetscCall(ISCreateGeneral(PETSC_COMM_SELF, ptap->nghost, prow, PETSC_OWN_POINTER, &isrow));
+    PetscCall(ISCreateStride(PETSC_COMM_SELF, ncols, 0, 1, &iscol));
+    PetscCall(MatCreateSubMatrices(P, 1, &isrow, &iscol, MAT_INITIAL_MATRIX, &ghost));
+    PetscCall(ISDestroy(&isrow));
+    PetscCall(ISDestroy(&iscol));
+  }
+  PetscCall(PetscMalloc1(ptap->nlocal + ptap->nghost + 1, &ptap->poffset));
+  ptap->poffset[0] = 0;
+  for (PetscInt pass = 0; pass < 2; pass++) {
+    /* owned rows 3 i of P: one MatGetRow each (every third row) */
+    for (PetscInt i = 0; i < ptap->nlocal; i++) PetscCall(ReadParents(ptap, P, rstart + BS * i, 1, i, pass));
+    if (ghost) PetscCall(ReadParents(ptap, ghost[0], 0, ptap->nghost, ptap->nlocal, pass));
+    if (pass == 0) {
+      for (PetscInt k = 0; k < ptap->nlocal + ptap->nghost; k++) ptap->poffset[k + 1] += ptap->poffset[k];
+      PetscCall(PetscMalloc2(ptap->poffset[ptap->nlocal + ptap->nghost], &ptap->parent, ptap->poffset[ptap->nlocal + ptap->nghost], &ptap->weight));
+    }
+  }
+  if (ghost) PetscCall(MatDestroySubMatrices(1, &ghost));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* R += a P(f, :) for the 3x3 block a of A in fine column f. */
+static inline void AddBlockTimesParents(ClothBlockPtAP ptap, PetscInt f, const PetscScalar a[], PetscInt *nr)
+{
+  for (PetscInt q = ptap->poffset[f]; q < ptap->poffset[f + 1]; q++) {
+    const PetscInt    J = ptap->parent[q];
+    const PetscScalar w = ptap->weight[q];
+    PetscInt          t = 0;
+    while (t < *nr && ptap->rcol[t] != J) t++;
+    if (t == *nr) {
+      ptap->rcol[t] = J;
+      for (PetscInt s = 0; s < BS2; s++) ptap->rval[BS2 * t + s] = 0;
+      (*nr)++;
+    }
+    for (PetscInt s = 0; s < BS2; s++) ptap->rval[BS2 * t + s] += w * a[s];
+    ptap->flops += 2 * BS2;
+  }
+}
+
+/* R = A(i,:) P, its coarse columns in rcol[0, nr) and 3x3 blocks (column-major, as BAIJ stores them) in rval. */
+static void FormRow(ClothBlockPtAP ptap, const BlockRows *rows, PetscInt i, PetscInt *nr)
+{
+  *nr = 0;
+  for (PetscInt k = rows->ia[i]; k < rows->ia[i + 1]; k++) AddBlockTimesParents(ptap, rows->ja[k], rows->va + BS2 * k, nr);
+  if (rows->Ao)
+    for (PetscInt k = rows->ib[i]; k < rows->ib[i + 1]; k++) AddBlockTimesParents(ptap, ptap->nlocal + rows->jb[k], rows->vb + BS2 * k, nr);
+}
+
+/* The most coarse columns any R can have: the parents of a fine row's neighbours, counted with repeats. */
+static PetscInt RowBound(ClothBlockPtAP ptap, const BlockRows *rows)
+{
+  PetscInt bound = 1;
+  for (PetscInt i = 0; i < ptap->nlocal; i++) {
+    PetscInt n = 0;
+    for (PetscInt k = rows->ia[i]; k < rows->ia[i + 1]; k++) n += ptap->poffset[rows->ja[k] + 1] - ptap->poffset[rows->ja[k]];
+    if (rows->Ao)
+      for (PetscInt k = rows->ib[i]; k < rows->ib[i + 1]; k++) n += ptap->poffset[ptap->nlocal + rows->jb[k] + 1] - ptap->poffset[ptap->nlocal + rows->jb[k]];
+    bound = PetscMax(bound, n);
+  }
+  return bound;
+}
+
+/* The row r of L that holds coarse row crow. */
+static PetscErrorCode LocalRowOf(ClothBlockPtAP ptap, PetscInt crow, PetscInt *r)
+{
+  PetscInt loc;
+
+  PetscFunctionBeginUser;
+  if (crow >= ptap->cstart && crow < ptap->cend) {
+    *r = crow - ptap->cstart;
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
+  PetscCall(PetscFindInt(crow, ptap->nremote, ptap->remote, &loc));
+  PetscCheck(loc >= 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "Block Galerkin product: coarse row %" PetscInt_FMT " is neither owned nor a known remote row", crow);
+  *r = ptap->cend - ptap->cstart + loc;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The coarse rows owned elsewhere that the owned fine rows interpolate from. */
+static PetscErrorCode FindRemoteRows(ClothBlockPtAP ptap)
+{
+  PetscInt n = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMalloc1(ptap->poffset[ptap->nlocal], &ptap->remote));
+  for (PetscInt q = 0; q < ptap->poffset[ptap->nlocal]; q++)
+    if (ptap->parent[q] < ptap->cstart || ptap->parent[q] >= ptap->cend) ptap->remote[n++] = ptap->parent[q];
+  PetscCall(PetscSortRemoveDupsInt(&n, ptap->remote));
+  ptap->nremote = n;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The nonzero patterns of L and C: every (crow, J) with crow a parent of an owned fine row i and J a column of its R. */
+static PetscErrorCode PreallocateProducts(ClothBlockPtAP ptap, const BlockRows *rows, MPI_Comm comm, PetscInt ncoarse)
+{
+  Mat          Lpre, Cpre;
+  PetscScalar *zeros;
+  PetscInt     nrows = ptap->cend - ptap->cstart + ptap->nremote;
+
+  PetscFunctionBeginUser;
+  PetscCall(MatCreate(PETSC_COMM_SELF, &Lpre));
+  PetscCall(MatSetType(Lpre, MATPREALLOCATOR));
+  PetscCall(MatSetSizes(Lpre, BS * nrows, BS * ncoarse, BS * nrows, BS * ncoarse));
+  PetscCall(MatSetBlockSize(Lpre, BS));
+  PetscCall(MatSetUp(Lpre));
+  PetscCall(MatCreate(comm, &Cpre));
+  PetscCall(MatSetType(Cpre, MATPREALLOCATOR));
+  PetscCall(MatSetSizes(Cpre, BS * (ptap->cend - ptap->cstart), BS * (ptap->cend - ptap->cstart), PETSC_DETERMINE, PETSC_DETERMINE));
+  PetscCall(MatSetBlockSize(Cpre, BS));
+  PetscCall(MatSetUp(Cpre));
+  PetscCall(PetscCalloc1(BS2 * ptap->rmax, &zeros));
+  for (PetscInt i = 0; i < ptap->nlocal; i++) {
+    PetscInt nr;
+    FormRow(ptap, rows, i, &nr);
+    for (PetscInt q = ptap->poffset[i]; q < ptap->poffset[i + 1]; q++) {
+      const PetscInt crow = ptap->parent[q];
+      PetscInt       r    = -1;
+      PetscCall(LocalRowOf(ptap, crow, &r));
+      PetscCall(MatSetValuesBlocked(Lpre, 1, &r, nr, ptap->rcol, zeros, INSERT_VALUES));
+      PetscCall(MatSetValuesBlocked(Cpre, 1, &crow, nr, ptap->rcol, zeros, INSERT_VALUES));
+    }
+  }
+  PetscCall(PetscFree(zeros));
+  PetscCall(MatAssemblyBegin(Lpre, MAT_FINAL_ASSEMBLY));
+  PetscCall(MatAssemblyEnd(Lpre, MAT_FINAL_ASSEMBLY));
+  PetscCall(MatAssemblyBegin(Cpre, MAT_FINAL_ASSEMBLY));
+  PetscCall(MatAssemblyEnd(Cpre, MAT_FINAL_ASSEMBLY));
+  PetscCall(MatCreate(PETSC_COMM_SELF, &ptap->L));
+  PetscCall(MatSetSizes(ptap->L, BS * nrows, BS * ncoarse, BS * nrows, BS * ncoarse));
+  PetscCall(MatSetType(ptap->L, MATSEQBAIJ));
+  PetscCall(MatSetBlockSize(ptap->L, BS));
+  PetscCall(MatPreallocatorPreallocate(Lpre, PETSC_TRUE, ptap->L));
+  PetscCall(MatCreate(comm, &ptap->C));
+  PetscCall(MatSetSizes(ptap->C, BS * (ptap->cend - ptap->cstart), BS * (ptap->cend - ptap->cstart), PETSC_DETERMINE, PETSC_DETERMINE));
+  PetscCall(MatSetType(ptap->C, MATAIJ));
+  PetscCall(MatSetBlockSize(ptap->C, BS));
+  PetscCall(MatPreallocatorPreallocate(Cpre, PETSC_TRUE, ptap->C));
+  /* L's blocks are column-major, as BAIJ stores them: C takes them as they are */
+  PetscCall(MatSetOption(ptap->C, MAT_ROW_ORIENTED, PETSC_FALSE));
+  PetscCall(MatDestroy(&Lpre));
+  PetscCall(MatDestroy(&Cpre));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothBlockPtAPCreate(Mat A, Mat P, ClothBlockPtAP *ptap)
+{
+  ClothBlockPtAP p;
+  BlockRows      rows;
+  PetscInt       bs, m, mp, ncoarse, cstart, cend;
+  MPI_Comm       comm = PetscObjectComm((PetscObject)A);
+
+  PetscFunctionBeginUser;
+  PetscCall(MatGetBlockSize(A, &bs));
+  PetscCheck(bs == BS, comm, PETSC_ERR_ARG_WRONG, "Block Galerkin product: block size %" PetscInt_FMT ", expected %d", bs, BS);
+  PetscCall(MatGetLocalSize(A, &m, NULL));
+  PetscCall(MatGetLocalSize(P, &mp, NULL));
+  PetscCheck(m == mp, PETSC_COMM_SELF, PETSC_ERR_ARG_SIZ, "Block Galerkin product: %" PetscInt_FMT " local rows of A against %" PetscInt_FMT " of P", m, mp);
+  PetscCall(MatGetOwnershipRangeColumn(P, &cstart, &cend));
+  PetscCall(MatGetSize(P, NULL, &ncoarse));
+  PetscCall(PetscLogEventBegin(ClothLog.block_ptap, A, 0, 0, 0));
+  PetscCall(PetscNew(&p));
+  p->nlocal = m / BS;
+  p->cstart = cstart / BS;
+  p->cend   = cend / BS;
+  PetscCall(BlockRowsGet(A, &rows));
+  if (rows.Ao) {
+    PetscInt nghost;
+    PetscCall(MatGetSize(rows.Ao, NULL, &nghost));
+    p->nghost = nghost / BS;
+  }
+  PetscCall(GetParents(p, P, &rows));
+  PetscCall(FindRemoteRows(p));
+  p->rmax = RowBound(p, &rows);
+  PetscCall(PetscMalloc2(p->rmax, &p->rcol, BS2 * p->rmax, &p->rval));
+  PetscCall(PreallocateProducts(p, &rows, comm, ncoarse / BS));
+  PetscCall(BlockRowsRestore(&rows));
+  PetscCall(PetscLogEventEnd(ClothLog.block_ptap, A, 0, 0, 0));
+  *ptap = p;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Adds w R into row r of L (whose pattern holds every column of R). */
+static PetscErrorCode AddRowToSums(ClothBlockPtAP ptap, PetscInt r, PetscScalar w, PetscInt nr, const PetscInt li[], const PetscInt lj[], PetscScalar lv[])
+{
+  PetscFunctionBeginUser;
+  for (PetscInt t = 0; t < nr; t++) {
+    PetscInt           loc;
+    PetscScalar       *dst;
+    const PetscScalar *src = ptap->rval + BS2 * t;
+    PetscCall(PetscFindInt(ptap->rcol[t], li[r + 1] - li[r], lj + li[r], &loc));
+    PetscCheck(loc >= 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "Block Galerkin product: coarse column %" PetscInt_FMT " missing from the pattern (the matrix's nonzero pattern changed)", ptap->rcol[t]);
+    dst = lv + BS2 * (li[r] + loc);
+    for (PetscInt s = 0; s < BS2; s++) dst[s] += w * src[s];
+  }
+  ptap->flops += 2 * BS2 * nr;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothBlockPtAPCompute(ClothBlockPtAP ptap, Mat A)
+{
+  BlockRows       rows;
+  const PetscInt *li, *lj;
+  PetscScalar    *lv;
+  PetscInt        nrows;
+  PetscBool       done;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscLogEventBegin(ClothLog.block_ptap, A, 0, 0, 0));
+  ptap->flops = 0;
+  PetscCall(MatZeroEntries(ptap->L));
+  PetscCall(MatGetRowIJ(ptap->L, 0, PETSC_FALSE, PETSC_TRUE, &nrows, &li, &lj, &done));
+  PetscCall(MatSeqBAIJGetArray(ptap->L, &lv));
+  PetscCall(BlockRowsGet(A, &rows));
+  for (PetscInt i = 0; i < ptap->nlocal; i++) {
+    PetscInt nr;
+    FormRow(ptap, &rows, i, &nr);
+    for (PetscInt q = ptap->poffset[i]; q < ptap->poffset[i + 1]; q++) {
+      PetscInt r = -1;
+      PetscCall(LocalRowOf(ptap, ptap->parent[q], &r));
+      PetscCall(AddRowToSums(ptap, r, ptap->weight[q], nr, li, lj, lv));
+    }
+  }
+  PetscCall(BlockRowsRestore(&rows));
+  PetscCall(MatZeroEntries(ptap->C));
+  for (PetscInt r = 0; r < nrows; r++) {
+    const PetscInt crow = r < ptap->cend - ptap->cstart ? ptap->cstart + r : ptap->remote[r - (ptap->cend - ptap->cstart)];
+    if (li[r + 1] > li[r]) PetscCall(MatSetValuesBlocked(ptap->C, 1, &crow, li[r + 1] - li[r], lj + li[r], lv + BS2 * li[r], ADD_VALUES));
+  }
+  PetscCall(MatSeqBAIJRestoreArray(ptap->L, &lv));
+  PetscCall(MatRestoreRowIJ(ptap->L, 0, PETSC_FALSE, PETSC_TRUE, &nrows, &li, &lj, &done));
+  PetscCall(MatAssemblyBegin(ptap->C, MAT_FINAL_ASSEMBLY));
+  PetscCall(MatAssemblyEnd(ptap->C, MAT_FINAL_ASSEMBLY));
+  PetscCall(PetscLogFlops(ptap->flops));
+  PetscCall(PetscLogEventEnd(ClothLog.block_ptap, A, 0, 0, 0));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothBlockPtAPGetProduct(ClothBlockPtAP ptap, Mat *C)
+{
+  PetscFunctionBeginUser;
+  *C = ptap->C;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothBlockPtAPDestroy(ClothBlockPtAP *ptap)
+{
+  PetscFunctionBeginUser;
+  if (!*ptap) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(PetscFree((*ptap)->poffset));
+  PetscCall(PetscFree2((*ptap)->parent, (*ptap)->weight));
+  PetscCall(PetscFree((*ptap)->remote));
+  PetscCall(PetscFree2((*ptap)->rcol, (*ptap)->rval));
+  PetscCall(MatDestroy(&(*ptap)->L));
+  PetscCall(MatDestroy(&(*ptap)->C));
+  PetscCall(PetscFree(*ptap));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}

@@ -1,0 +1,110 @@
+/* The block Galerkin product (src/block_ptap.c) against PETSc's MatPtAP of an AIJ copy, an independent computation.
+
+   The implicit system of a perturbed cloth (positions moved by up to 2 mm, random velocities, so that every element's
+   stiffness is generic) is assembled into the block (BAIJ) matrix; for the pattern grids' first interpolation P,
+   C = P^T A P by ClothBlockPtAPCompute must equal MatPtAP(AIJ copy of A, P) to 1e-13 relative in the Frobenius norm
+   (summation order differs; measured about 1e-16). A second product after assembling the system again at another step
+   size (new values, same pattern) must match too: the sums are cleared between products. Run on 1, 2 and 3 ranks, on
+   scenes with several pieces, seams and pins, so that coarse rows owned by another rank and ghost rows of P are
+   exercised; the test also requires that at least one product row was sent to another rank when run in parallel. */
+#include <petscksp.h>
+#include "test_support.h"
+#include "block_ptap.h"
+#include "gridhierarchy.h"
+
+/* |C - Cref|_F / |Cref|_F. */
+static PetscErrorCode RelativeDifference(Mat C, Mat Cref, PetscReal *rel)
+{
+  Mat       D;
+  PetscReal nd, nref;
+
+  PetscFunctionBeginUser;
+  PetscCall(MatDuplicate(Cref, MAT_COPY_VALUES, &D));
+  PetscCall(MatAXPY(D, -1, C, DIFFERENT_NONZERO_PATTERN));
+  PetscCall(MatNorm(D, NORM_FROBENIUS, &nd));
+  PetscCall(MatNorm(Cref, NORM_FROBENIUS, &nref));
+  *rel = nd / nref;
+  PetscCall(MatDestroy(&D));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Assembles the implicit system at step h and compares the two products. */
+static PetscErrorCode CompareAt(Cloth cloth, PetscReal h, Mat A, Vec rhs, ClothBlockPtAP ptap, Mat P, PetscReal *rel)
+{
+  Vec x, v;
+  Mat Aaij, Cref, C;
+
+  PetscFunctionBeginUser;
+  PetscCall(ClothGetState(cloth, &x, &v));
+  PetscCall(ClothAssembleImplicitSystem(cloth, h, x, v, A, rhs));
+  PetscCall(ClothBlockPtAPCompute(ptap, A));
+  PetscCall(ClothBlockPtAPGetProduct(ptap, &C));
+  PetscCall(MatConvert(A, MATAIJ, MAT_INITIAL_MATRIX, &Aaij));
+  PetscCall(MatPtAP(Aaij, P, MAT_INITIAL_MATRIX, PETSC_DEFAULT, &Cref));
+  PetscCall(RelativeDifference(C, Cref, rel));
+  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "h = %g: |C - MatPtAP| / |MatPtAP| = %.2e\n", (double)h, (double)*rel));
+  PetscCall(MatDestroy(&Cref));
+  PetscCall(MatDestroy(&Aaij));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+int main(int argc, char **argv)
+{
+  Scene              scene;
+  Cloth              cloth;
+  ClothGridHierarchy gh;
+  ClothBlockPtAP     ptap;
+  Mat                A, P, C;
+  Vec                rhs;
+  PetscInt           ratio = 4, nlevels, cstart, cend, nrows, sent = 0;
+  PetscReal          rel[2];
+  PetscMPIInt        size;
+
+  PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
+  PetscCallMPI(MPI_Comm_size(PETSC_COMM_WORLD, &size));
+  PetscCall(PetscOptionsGetInt(NULL, NULL, "-ratio", &ratio, NULL));
+  PetscCall(TestClothFromOptions(&scene, &cloth));
+  PetscCall(TestPerturbState(cloth, 2026, 2e-3, 0.3));
+  PetscCall(ClothCreateMatrix(cloth, &A));
+  PetscCall(ClothCreateStateVec(cloth, &rhs));
+  PetscCall(ClothGridHierarchyCreate(cloth, ratio, 2, 1, &gh));
+  PetscCall(ClothGridHierarchyGetLevels(gh, &nlevels));
+  PetscCheck(nlevels == 2, PETSC_COMM_WORLD, PETSC_ERR_PLIB, "the scene's grids cannot be coarsened: %" PetscInt_FMT " level", nlevels);
+  PetscCall(ClothGridHierarchyGetInterpolation(gh, 1, &P));
+  {
+    Vec x, v;
+    PetscCall(ClothGetState(cloth, &x, &v));
+    PetscCall(ClothAssembleImplicitSystem(cloth, 0.01, x, v, A, rhs)); /* the pattern the product is made for */
+  }
+  PetscCall(ClothBlockPtAPCreate(A, P, &ptap));
+  PetscCall(CompareAt(cloth, 0.01, A, rhs, ptap, P, &rel[0]));
+  PetscCall(CompareAt(cloth, 0.0025, A, rhs, ptap, P, &rel[1]));
+  PetscCheck(rel[0] <= 1e-13 && rel[1] <= 1e-13, PETSC_COMM_WORLD, PETSC_ERR_PLIB, "the block Galerkin product differs from MatPtAP: %g, %g (tolerance 1e-13)", (double)rel[0], (double)rel[1]);
+  /* in parallel, some fine row must interpolate from a coarse row owned by another rank (else the remote path is untested) */
+  PetscCall(ClothBlockPtAPGetProduct(ptap, &C));
+  PetscCall(MatGetOwnershipRange(C, &cstart, &cend));
+  PetscCall(MatGetSize(C, &nrows, NULL));
+  {
+    const PetscInt *cols;
+    PetscInt        rstart, rend, ncols;
+    PetscCall(MatGetOwnershipRange(P, &rstart, &rend));
+    for (PetscInt row = rstart; row < rend; row++) {
+      PetscCall(MatGetRow(P, row, &ncols, &cols, NULL));
+      for (PetscInt k = 0; k < ncols; k++)
+        if (cols[k] < cstart || cols[k] >= cend) sent++;
+      PetscCall(MatRestoreRow(P, row, &ncols, &cols, NULL));
+    }
+    PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &sent, 1, MPIU_INT, MPI_SUM, PETSC_COMM_WORLD));
+  }
+  PetscCheck(size == 1 || sent > 0, PETSC_COMM_WORLD, PETSC_ERR_PLIB, "no fine row interpolates from another rank's coarse row: the test does not reach the remote rows");
+  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "block Galerkin product: %" PetscInt_FMT " coarse rows, %" PetscInt_FMT " interpolation entries across ranks, equal to MatPtAP within 1e-13\n", nrows / 3, sent / 3));
+  PetscCall(ClothBlockPtAPDestroy(&ptap));
+  PetscCall(ClothGridHierarchyDestroy(&gh));
+  PetscCall(VecDestroy(&rhs));
+  PetscCall(MatDestroy(&A));
+  PetscCall(ClothDestroy(&cloth));
+  PetscCall(SceneDestroy(&scene));
+  PetscCall(TestCheckExpectationsUsed());
+  PetscCall(PetscFinalize());
+  return 0;
+}
