@@ -127,8 +127,8 @@ def memory_row(run):
     row["grid_galerkin_B_per_particle"] = 1e6 * (event(run, steps, "MatPtAPSymbolic", "malloc_mb") + event(run, steps, "MatPtAPNumeric", "malloc_mb")) / n
     row["grid_galerkin_transient_B_per_particle"] = 1e6 * event(run, steps, "MatPtAPSymbolic", "emalloc_mb") / n
     # its finest product of the block matrix itself (src/block_ptap.c: the symbolic and numeric parts, one event)
-    row["grid_block_galerkin_B_per_particle"] = 1e6 * event(run, steps, "ClothBlockPtAP", "malloc_mb") / n
-    row["grid_block_galerkin_transient_B_per_particle"] = 1e6 * event(run, steps, "ClothBlockPtAP", "emalloc_mb") / n
+    row["grid_block_galerkin_B_per_particle"] = 1e6 * (event(run, steps, "ClothBlockPtAPSym", "malloc_mb") + event(run, steps, "ClothBlockPtAPNum", "malloc_mb")) / n
+    row["grid_block_galerkin_transient_B_per_particle"] = 1e6 * event(run, steps, "ClothBlockPtAPSym", "emalloc_mb") / n
     row["solve_total_B_per_particle"] = 1e6 * event(run, steps, "ClothSolve", "malloc_mb") / n
     row["solve_peak_B_per_particle"] = 1e6 * event(run, steps, "ClothSolve", "mmalloc_mb") / n
     row["solve_resident_B_per_particle"] = 1e6 * event(run, steps, "ClothSolve", "rmi_mb") / n

@@ -200,46 +200,81 @@ static PetscErrorCode FindRemoteRows(ClothBlockPtAP ptap)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* The nonzero patterns of L and C: every (crow, J) with crow a parent of an owned fine row i and J a column of its R. */
-static PetscErrorCode PreallocateProducts(ClothBlockPtAP ptap, const BlockRows *rows, MPI_Comm comm, PetscInt ncoarse)
+/* L's nonzero pattern, block CSR: row r holds every column of R of every owned fine row that interpolates from
+   coarse row r. Built by counting, filling with repeats and sorting each row: at 1025 x 1025 on 1 rank the whole
+   symbolic product takes 1.7 s so, 6.9 s with a MATPREALLOCATOR's hash taking every fine row's entries. */
+static PetscErrorCode SumsPattern(ClothBlockPtAP ptap, const BlockRows *rows, PetscInt nrows, PetscInt **li, PetscInt **lj)
 {
-  Mat          Lpre, Cpre;
-  PetscScalar *zeros;
-  PetscInt     nrows = ptap->cend - ptap->cstart + ptap->nremote;
+  PetscInt *start, *fill;
 
   PetscFunctionBeginUser;
-  PetscCall(MatCreate(PETSC_COMM_SELF, &Lpre));
-  PetscCall(MatSetType(Lpre, MATPREALLOCATOR));
-  PetscCall(MatSetSizes(Lpre, BS * nrows, BS * ncoarse, BS * nrows, BS * ncoarse));
-  PetscCall(MatSetBlockSize(Lpre, BS));
-  PetscCall(MatSetUp(Lpre));
+  PetscCall(PetscCalloc1(nrows + 1, &start));
+  PetscCall(PetscMalloc1(nrows, &fill));
+  for (PetscInt pass = 0; pass < 2; pass++) { /* count, then fill */
+    for (PetscInt i = 0; i < ptap->nlocal; i++) {
+      PetscInt nr;
+      FormRow(ptap, rows, i, &nr);
+      for (PetscInt q = ptap->poffset[i]; q < ptap->poffset[i + 1]; q++) {
+        PetscInt r = -1;
+        PetscCall(LocalRowOf(ptap, ptap->parent[q], &r));
+        if (pass == 0)
+          start[r + 1] += nr;
+        else {
+          PetscCall(PetscArraycpy(*lj + fill[r], ptap->rcol, nr));
+          fill[r] += nr;
+        }
+      }
+    }
+    if (pass == 0) {
+      for (PetscInt r = 0; r < nrows; r++) start[r + 1] += start[r];
+      PetscCall(PetscArraycpy(fill, start, nrows));
+      PetscCall(PetscMalloc1(start[nrows], lj));
+    }
+  }
+  /* sort each row, drop repeats, close the gaps */
+  PetscCall(PetscMalloc1(nrows + 1, li));
+  (*li)[0] = 0;
+  for (PetscInt r = 0; r < nrows; r++) {
+    PetscInt n = start[r + 1] - start[r];
+    PetscCall(PetscSortRemoveDupsInt(&n, *lj + start[r]));
+    PetscCall(PetscArraymove(*lj + (*li)[r], *lj + start[r], n));
+    (*li)[r + 1] = (*li)[r] + n;
+  }
+  PetscCall(PetscFree(start));
+  PetscCall(PetscFree(fill));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The nonzero patterns of L (this rank's sums) and C (every rank's rows added, through a MATPREALLOCATOR that takes
+   L's rows once each: coarse-level sized work). */
+static PetscErrorCode PreallocateProducts(ClothBlockPtAP ptap, const BlockRows *rows, MPI_Comm comm, PetscInt ncoarse)
+{
+  Mat          Cpre;
+  PetscScalar *zeros;
+  PetscInt     nrows = ptap->cend - ptap->cstart + ptap->nremote, *li, *lj, longest = 1;
+
+  PetscFunctionBeginUser;
+  PetscCall(SumsPattern(ptap, rows, nrows, &li, &lj));
+  PetscCall(MatCreate(PETSC_COMM_SELF, &ptap->L));
+  PetscCall(MatSetSizes(ptap->L, BS * nrows, BS * ncoarse, BS * nrows, BS * ncoarse));
+  PetscCall(MatSetType(ptap->L, MATSEQBAIJ));
+  PetscCall(MatSeqBAIJSetPreallocationCSR(ptap->L, BS, li, lj, NULL));
   PetscCall(MatCreate(comm, &Cpre));
   PetscCall(MatSetType(Cpre, MATPREALLOCATOR));
   PetscCall(MatSetSizes(Cpre, BS * (ptap->cend - ptap->cstart), BS * (ptap->cend - ptap->cstart), PETSC_DETERMINE, PETSC_DETERMINE));
   PetscCall(MatSetBlockSize(Cpre, BS));
   PetscCall(MatSetUp(Cpre));
-  PetscCall(PetscCalloc1(BS2 * ptap->rmax, &zeros));
-  for (PetscInt i = 0; i < ptap->nlocal; i++) {
-    PetscInt nr;
-    FormRow(ptap, rows, i, &nr);
-    for (PetscInt q = ptap->poffset[i]; q < ptap->poffset[i + 1]; q++) {
-      const PetscInt crow = ptap->parent[q];
-      PetscInt       r    = -1;
-      PetscCall(LocalRowOf(ptap, crow, &r));
-      PetscCall(MatSetValuesBlocked(Lpre, 1, &r, nr, ptap->rcol, zeros, INSERT_VALUES));
-      PetscCall(MatSetValuesBlocked(Cpre, 1, &crow, nr, ptap->rcol, zeros, INSERT_VALUES));
-    }
+  for (PetscInt r = 0; r < nrows; r++) longest = PetscMax(longest, li[r + 1] - li[r]);
+  PetscCall(PetscCalloc1(BS2 * longest, &zeros));
+  for (PetscInt r = 0; r < nrows; r++) {
+    const PetscInt crow = r < ptap->cend - ptap->cstart ? ptap->cstart + r : ptap->remote[r - (ptap->cend - ptap->cstart)];
+    if (li[r + 1] > li[r]) PetscCall(MatSetValuesBlocked(Cpre, 1, &crow, li[r + 1] - li[r], lj + li[r], zeros, INSERT_VALUES));
   }
   PetscCall(PetscFree(zeros));
-  PetscCall(MatAssemblyBegin(Lpre, MAT_FINAL_ASSEMBLY));
-  PetscCall(MatAssemblyEnd(Lpre, MAT_FINAL_ASSEMBLY));
+  PetscCall(PetscFree(li));
+  PetscCall(PetscFree(lj));
   PetscCall(MatAssemblyBegin(Cpre, MAT_FINAL_ASSEMBLY));
   PetscCall(MatAssemblyEnd(Cpre, MAT_FINAL_ASSEMBLY));
-  PetscCall(MatCreate(PETSC_COMM_SELF, &ptap->L));
-  PetscCall(MatSetSizes(ptap->L, BS * nrows, BS * ncoarse, BS * nrows, BS * ncoarse));
-  PetscCall(MatSetType(ptap->L, MATSEQBAIJ));
-  PetscCall(MatSetBlockSize(ptap->L, BS));
-  PetscCall(MatPreallocatorPreallocate(Lpre, PETSC_TRUE, ptap->L));
   PetscCall(MatCreate(comm, &ptap->C));
   PetscCall(MatSetSizes(ptap->C, BS * (ptap->cend - ptap->cstart), BS * (ptap->cend - ptap->cstart), PETSC_DETERMINE, PETSC_DETERMINE));
   PetscCall(MatSetType(ptap->C, MATAIJ));
@@ -247,7 +282,6 @@ static PetscErrorCode PreallocateProducts(ClothBlockPtAP ptap, const BlockRows *
   PetscCall(MatPreallocatorPreallocate(Cpre, PETSC_TRUE, ptap->C));
   /* L's blocks are column-major, as BAIJ stores them: C takes them as they are */
   PetscCall(MatSetOption(ptap->C, MAT_ROW_ORIENTED, PETSC_FALSE));
-  PetscCall(MatDestroy(&Lpre));
   PetscCall(MatDestroy(&Cpre));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -267,7 +301,7 @@ PetscErrorCode ClothBlockPtAPCreate(Mat A, Mat P, ClothBlockPtAP *ptap)
   PetscCheck(m == mp, PETSC_COMM_SELF, PETSC_ERR_ARG_SIZ, "Block Galerkin product: %" PetscInt_FMT " local rows of A against %" PetscInt_FMT " of P", m, mp);
   PetscCall(MatGetOwnershipRangeColumn(P, &cstart, &cend));
   PetscCall(MatGetSize(P, NULL, &ncoarse));
-  PetscCall(PetscLogEventBegin(ClothLog.block_ptap, A, 0, 0, 0));
+  PetscCall(PetscLogEventBegin(ClothLog.block_ptap_symbolic, A, 0, 0, 0));
   PetscCall(PetscNew(&p));
   p->nlocal = m / BS;
   p->cstart = cstart / BS;
@@ -284,7 +318,7 @@ PetscErrorCode ClothBlockPtAPCreate(Mat A, Mat P, ClothBlockPtAP *ptap)
   PetscCall(PetscMalloc2(p->rmax, &p->rcol, BS2 * p->rmax, &p->rval));
   PetscCall(PreallocateProducts(p, &rows, comm, ncoarse / BS));
   PetscCall(BlockRowsRestore(&rows));
-  PetscCall(PetscLogEventEnd(ClothLog.block_ptap, A, 0, 0, 0));
+  PetscCall(PetscLogEventEnd(ClothLog.block_ptap_symbolic, A, 0, 0, 0));
   *ptap = p;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -315,7 +349,7 @@ PetscErrorCode ClothBlockPtAPCompute(ClothBlockPtAP ptap, Mat A)
   PetscBool       done;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscLogEventBegin(ClothLog.block_ptap, A, 0, 0, 0));
+  PetscCall(PetscLogEventBegin(ClothLog.block_ptap_numeric, A, 0, 0, 0));
   ptap->flops = 0;
   PetscCall(MatZeroEntries(ptap->L));
   PetscCall(MatGetRowIJ(ptap->L, 0, PETSC_FALSE, PETSC_TRUE, &nrows, &li, &lj, &done));
@@ -341,7 +375,7 @@ PetscErrorCode ClothBlockPtAPCompute(ClothBlockPtAP ptap, Mat A)
   PetscCall(MatAssemblyBegin(ptap->C, MAT_FINAL_ASSEMBLY));
   PetscCall(MatAssemblyEnd(ptap->C, MAT_FINAL_ASSEMBLY));
   PetscCall(PetscLogFlops(ptap->flops));
-  PetscCall(PetscLogEventEnd(ClothLog.block_ptap, A, 0, 0, 0));
+  PetscCall(PetscLogEventEnd(ClothLog.block_ptap_numeric, A, 0, 0, 0));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

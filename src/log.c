@@ -30,7 +30,8 @@ PetscErrorCode ClothLogRegister(void)
   PetscCall(PetscLogEventRegister("ClothSelfForces", ClothLog.classid, &ClothLog.self_forces));
   PetscCall(PetscLogEventRegister("ClothSelfImpulses", ClothLog.classid, &ClothLog.self_impulses));
   PetscCall(PetscLogEventRegister("ClothCheckpointRead", ClothLog.classid, &ClothLog.checkpoint_read));
-  PetscCall(PetscLogEventRegister("ClothBlockPtAP", ClothLog.classid, &ClothLog.block_ptap));
+  PetscCall(PetscLogEventRegister("ClothBlockPtAPSym", ClothLog.classid, &ClothLog.block_ptap_symbolic));
+  PetscCall(PetscLogEventRegister("ClothBlockPtAPNum", ClothLog.classid, &ClothLog.block_ptap_numeric));
   PetscCall(PetscLogStageRegister("Setup", &ClothLog.stage_setup));
   PetscCall(PetscLogStageRegister("Time steps", &ClothLog.stage_steps));
   for (PetscInt p = 0; p < CLOTH_SETUP_PHASES; p++) {

@@ -24,7 +24,8 @@ typedef struct {
   PetscLogEvent self_pattern, self_forces; /* the matrix pattern's check; repulsion and friction at an evaluation */
   PetscLogEvent self_impulses;             /* the velocity filter's Gauss-Seidel sweeps */
   PetscLogEvent checkpoint_read;           /* reading and checking the checkpoint of -restart */
-  PetscLogEvent block_ptap;                /* the pattern-grid multigrid's finest Galerkin product, from the block matrix */
+  PetscLogEvent block_ptap_symbolic;       /* the pattern-grid multigrid's finest Galerkin product, from the block matrix: */
+  PetscLogEvent block_ptap_numeric;        /* its pattern (once per nonzero pattern of the matrix) and its values */
   PetscLogStage stage_setup, stage_steps;
   PetscLogStage stage_phase[CLOTH_SETUP_PHASES]; /* "Setup: NAME", nested in "Setup" (see ClothLogPhaseBegin) */
   PetscLogEvent event_phase[CLOTH_SETUP_PHASES]; /* "SetUpNAME": the same span, for -log_view_memory's columns */
