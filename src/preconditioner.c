@@ -38,7 +38,7 @@
 #define CLOTH_PC_DEFAULT_LAG_MAX 2
 
 /* The default -implicit_pc_lag_excess and -implicit_pc_lag_pause: a refresh of the 257 x 257 sheet's pattern-grid
-   multigrid (AIJ copy, Galerkin products, coarse smoothers' bounds, coarse factorisation) costs about 9 of its
+   multigrid (then with an AIJ copy; Galerkin products, coarse smoothers' bounds, coarse factorisation) costs about 9 of its
    V-cycles (docs/performance.md), so a lagged solve that needs more than 10 extra iterations lost more than it saved;
    then the next 8 solves refresh. Measured on 513 x 513 over 24 steps (2 ranks): without it, lagged solves took 43-52
    iterations against 15-19 refreshed ones in the last steps. */

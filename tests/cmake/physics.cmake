@@ -58,7 +58,7 @@ foreach(np 1 3)
 endforeach()
 
 # The block Galerkin product of the pattern-grid multigrid (tests/programs/test_block_ptap.c): P^T A P taken of the BAIJ
-# implicit matrix of a perturbed cloth equals MatPtAP of its AIJ copy to 1e-13 relative (measured about 1e-16), at two
+# implicit matrix of a perturbed cloth equals MatPtAP of its AIJ copy to 1e-13 relative (measured 0: the same sums in the same order), at two
 # step sizes in a row; three small pieces with seams, a sewn pair with one piece pinned, a 39 x 39 sheet; 1 to 3 ranks
 # (in parallel some product rows must go to another rank). About 1 s each.
 clothsim_add_test_program(test_block_ptap test_block_ptap.c)
