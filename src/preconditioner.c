@@ -197,7 +197,6 @@ static PetscErrorCode SetUpGridMultigrid(ClothPreconditioner pre, PC pc)
   }
   /* The coarse operators are Galerkin products made here (RefreshGridOperators): the finest one of the block matrix
      itself (ClothBlockPtAP), which MatPtAP does not support, or of an AIJ copy; the coarser ones by MatPtAP. */
-  pre->copy_aij = pre->block_product ? PETSC_FALSE : PETSC_TRUE;
   PetscCall(PCMGSetGalerkin(pc, PC_MG_GALERKIN_NONE));
   PetscCall(PetscCalloc1(nlevels, &pre->coarse));
   /* the levels' solvers exist only now: they read their -mg_levels_ and -mg_coarse_ options here */
@@ -357,14 +356,17 @@ static PetscErrorCode RefreshGridOperators(ClothPreconditioner pre, PC pc, Mat A
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* The matrix the preconditioner is built from: A itself, or its AIJ copy brought up to date. */
+/* The matrix the preconditioner is built from: A itself, or its AIJ copy brought up to date. The pattern-grid
+   multigrid takes a BAIJ matrix as it is (its finest Galerkin product is ClothBlockPtAP's); other block formats
+   (SBAIJ) and GAMG get the copy. */
 static PetscErrorCode UpdatePreconditioningMatrix(ClothPreconditioner pre, Mat A, PetscBool new_pattern, Mat *P)
 {
-  PetscBool aij;
+  PetscBool aij, baij;
 
   PetscFunctionBeginUser;
   PetscCall(PetscObjectTypeCompareAny((PetscObject)A, &aij, MATAIJ, MATSEQAIJ, MATMPIAIJ, ""));
-  if (!pre->copy_aij || aij) {
+  PetscCall(PetscObjectTypeCompareAny((PetscObject)A, &baij, MATBAIJ, MATSEQBAIJ, MATMPIBAIJ, ""));
+  if (!pre->copy_aij || aij || (baij && pre->grid && pre->block_product)) {
     *P = A;
     PetscFunctionReturn(PETSC_SUCCESS);
   }
