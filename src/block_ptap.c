@@ -1,5 +1,6 @@
 /* ClothBlockPtAP (see block_ptap.h). */
 #include "block_ptap.h"
+#include "block_matrix.h"
 #include "log.h"
 
 #define BS 3
@@ -15,63 +16,13 @@ struct _n_ClothBlockPtAP {
   PetscInt      *remote;         /* sorted */
   Mat            L;              /* SEQBAIJ: the sums of this rank, rows cstart..cend-1 then remote[], global columns */
   Mat            C;
-  PetscInt       rmax; /* room in rcol, rval: R = A(i,:) P of one fine row */
+  PetscBool      upper; /* A is SBAIJ: L holds S of FormRow and C = S + S^T */
+  PetscScalar   *tval;  /* room for one row of L transposed (upper) */
+  PetscInt       rmax;  /* room in rcol, rval: R = A(i,:) P of one fine row */
   PetscInt      *rcol;
   PetscScalar   *rval;
   PetscLogDouble flops; /* of the current product, for -log_view */
 };
-
-/* A's own blocks: the diagonal part (columns local) and, in parallel, the off-process part (columns through garray). */
-typedef struct {
-  Mat             Ad, Ao;
-  const PetscInt *garray;
-  const PetscInt *ia, *ja, *ib, *jb;
-  PetscScalar    *va, *vb;
-} BlockRows;
-
-static PetscErrorCode BlockRowsGet(Mat A, BlockRows *rows)
-{
-  PetscBool mpi, seq, done;
-  PetscInt  n;
-
-  PetscFunctionBeginUser;
-  PetscCall(PetscObjectTypeCompare((PetscObject)A, MATMPIBAIJ, &mpi));
-  PetscCall(PetscObjectTypeCompare((PetscObject)A, MATSEQBAIJ, &seq));
-  if (!mpi && !seq) {
-    MatType type;
-    PetscCall(MatGetType(A, &type));
-    SETERRQ(PetscObjectComm((PetscObject)A), PETSC_ERR_SUP, "Block Galerkin product of a %s matrix: expected seqbaij or mpibaij", type);
-  }
-  rows->Ao = NULL, rows->garray = NULL, rows->ib = rows->jb = NULL, rows->vb = NULL;
-  if (mpi)
-    PetscCall(MatMPIBAIJGetSeqBAIJ(A, &rows->Ad, &rows->Ao, &rows->garray));
-  else
-    rows->Ad = A;
-  PetscCall(MatGetRowIJ(rows->Ad, 0, PETSC_FALSE, PETSC_TRUE, &n, &rows->ia, &rows->ja, &done));
-  PetscCheck(done, PETSC_COMM_SELF, PETSC_ERR_SUP, "No block row structure of the diagonal part");
-  PetscCall(MatSeqBAIJGetArray(rows->Ad, &rows->va));
-  if (rows->Ao) {
-    PetscCall(MatGetRowIJ(rows->Ao, 0, PETSC_FALSE, PETSC_TRUE, &n, &rows->ib, &rows->jb, &done));
-    PetscCheck(done, PETSC_COMM_SELF, PETSC_ERR_SUP, "No block row structure of the off-process part");
-    PetscCall(MatSeqBAIJGetArray(rows->Ao, &rows->vb));
-  }
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-static PetscErrorCode BlockRowsRestore(BlockRows *rows)
-{
-  PetscBool done;
-  PetscInt  n;
-
-  PetscFunctionBeginUser;
-  PetscCall(MatSeqBAIJRestoreArray(rows->Ad, &rows->va));
-  PetscCall(MatRestoreRowIJ(rows->Ad, 0, PETSC_FALSE, PETSC_TRUE, &n, &rows->ia, &rows->ja, &done));
-  if (rows->Ao) {
-    PetscCall(MatSeqBAIJRestoreArray(rows->Ao, &rows->vb));
-    PetscCall(MatRestoreRowIJ(rows->Ao, 0, PETSC_FALSE, PETSC_TRUE, &n, &rows->ib, &rows->jb, &done));
-  }
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
 
 /* The parents of the fine particles from the interpolation rows 3 g (g: the particles' global indices), k-th
    particle's from row k of Q; pass 0 counts into poffset[first + k + 1], pass 1 fills. */
@@ -95,7 +46,7 @@ static PetscErrorCode ReadParents(ClothBlockPtAP ptap, Mat Q, PetscInt qstart, P
 }
 
 /* The interpolation rows of the owned fine particles and of A's ghosts (fetched from their owners). */
-static PetscErrorCode GetParents(ClothBlockPtAP ptap, Mat P, const BlockRows *rows)
+static PetscErrorCode GetParents(ClothBlockPtAP ptap, Mat P, const ClothBlockRows *rows)
 {
   PetscInt rstart, ncols;
   IS       isrow, iscol;
@@ -148,16 +99,28 @@ static inline void AddBlockTimesParents(ClothBlockPtAP ptap, PetscInt f, const P
 }
 
 /* R = A(i,:) P, its coarse columns in rcol[0, nr) and 3x3 blocks (column-major, as BAIJ stores them) in rval. */
-static void FormRow(ClothBlockPtAP ptap, const BlockRows *rows, PetscInt i, PetscInt *nr)
+static void FormRow(ClothBlockPtAP ptap, const ClothBlockRows *rows, PetscInt i, PetscInt *nr)
 {
+  PetscInt k = rows->ia[i];
+
   *nr = 0;
-  for (PetscInt k = rows->ia[i]; k < rows->ia[i + 1]; k++) AddBlockTimesParents(ptap, rows->ja[k], rows->va + BS2 * k, nr);
+  if (rows->upper && k < rows->ia[i + 1] && rows->ja[k] == i) {
+    /* SBAIJ stores U, the upper triangle with the diagonal D: A = U + U^T - D, so P^T A P = S + S^T with
+       S = P^T (U - D/2) P. The diagonal block enters S at half weight, made symmetric from its upper triangle. */
+    const PetscScalar *d = rows->va + BS2 * k;
+    PetscScalar        half[BS2];
+    for (PetscInt c = 0; c < BS; c++)
+      for (PetscInt r = 0; r < BS; r++) half[BS * c + r] = 0.5 * d[BS * PetscMax(r, c) + PetscMin(r, c)];
+    AddBlockTimesParents(ptap, i, half, nr);
+    k++;
+  }
+  for (; k < rows->ia[i + 1]; k++) AddBlockTimesParents(ptap, rows->ja[k], rows->va + BS2 * k, nr);
   if (rows->Ao)
     for (PetscInt k = rows->ib[i]; k < rows->ib[i + 1]; k++) AddBlockTimesParents(ptap, ptap->nlocal + rows->jb[k], rows->vb + BS2 * k, nr);
 }
 
 /* The most coarse columns any R can have: the parents of a fine row's neighbours, counted with repeats. */
-static PetscInt RowBound(ClothBlockPtAP ptap, const BlockRows *rows)
+static PetscInt RowBound(ClothBlockPtAP ptap, const ClothBlockRows *rows)
 {
   PetscInt bound = 1;
   for (PetscInt i = 0; i < ptap->nlocal; i++) {
@@ -203,7 +166,7 @@ static PetscErrorCode FindRemoteRows(ClothBlockPtAP ptap)
 /* L's nonzero pattern, block CSR: row r holds every column of R of every owned fine row that interpolates from
    coarse row r. Built by counting, filling with repeats and sorting each row: at 1025 x 1025 on 1 rank the whole
    symbolic product takes 1.7 s so, 6.9 s with a MATPREALLOCATOR's hash taking every fine row's entries. */
-static PetscErrorCode SumsPattern(ClothBlockPtAP ptap, const BlockRows *rows, PetscInt nrows, PetscInt **li, PetscInt **lj)
+static PetscErrorCode SumsPattern(ClothBlockPtAP ptap, const ClothBlockRows *rows, PetscInt nrows, PetscInt **li, PetscInt **lj)
 {
   PetscInt *start, *fill;
 
@@ -245,13 +208,33 @@ static PetscErrorCode SumsPattern(ClothBlockPtAP ptap, const BlockRows *rows, Pe
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* Adds L's rows into M (C, or its preallocator with lv NULL: zeros) as rows of C and, for SBAIJ, each also transposed
+   as a block column (the S^T of FormRow): its blocks B_k at coarse columns J_k go to rows J_k, column crow, as B_k^T,
+   laid out for C's column-major input. */
+static PetscErrorCode AddSums(ClothBlockPtAP ptap, Mat M, PetscInt nrows, const PetscInt li[], const PetscInt lj[], const PetscScalar lv[], InsertMode mode)
+{
+  PetscFunctionBeginUser;
+  for (PetscInt r = 0; r < nrows; r++) {
+    const PetscInt     crow = r < ptap->cend - ptap->cstart ? ptap->cstart + r : ptap->remote[r - (ptap->cend - ptap->cstart)];
+    const PetscInt     n    = li[r + 1] - li[r];
+    const PetscScalar *row  = lv ? lv + BS2 * li[r] : ptap->tval;
+    if (n == 0) continue;
+    PetscCall(MatSetValuesBlocked(M, 1, &crow, n, lj + li[r], row, mode));
+    if (!ptap->upper) continue;
+    for (PetscInt k = 0; lv && k < n; k++)
+      for (PetscInt a = 0; a < BS; a++)
+        for (PetscInt b = 0; b < BS; b++) ptap->tval[b * BS * n + BS * k + a] = row[BS2 * k + BS * a + b];
+    PetscCall(MatSetValuesBlocked(M, n, lj + li[r], 1, &crow, ptap->tval, mode));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 /* The nonzero patterns of L (this rank's sums) and C (every rank's rows added, through a MATPREALLOCATOR that takes
    L's rows once each: coarse-level sized work). */
-static PetscErrorCode PreallocateProducts(ClothBlockPtAP ptap, const BlockRows *rows, MPI_Comm comm, PetscInt ncoarse)
+static PetscErrorCode PreallocateProducts(ClothBlockPtAP ptap, const ClothBlockRows *rows, MPI_Comm comm, PetscInt ncoarse)
 {
-  Mat          Cpre;
-  PetscScalar *zeros;
-  PetscInt     nrows = ptap->cend - ptap->cstart + ptap->nremote, *li, *lj, longest = 1;
+  Mat      Cpre;
+  PetscInt nrows = ptap->cend - ptap->cstart + ptap->nremote, *li, *lj, longest = 1;
 
   PetscFunctionBeginUser;
   PetscCall(SumsPattern(ptap, rows, nrows, &li, &lj));
@@ -265,12 +248,8 @@ static PetscErrorCode PreallocateProducts(ClothBlockPtAP ptap, const BlockRows *
   PetscCall(MatSetBlockSize(Cpre, BS));
   PetscCall(MatSetUp(Cpre));
   for (PetscInt r = 0; r < nrows; r++) longest = PetscMax(longest, li[r + 1] - li[r]);
-  PetscCall(PetscCalloc1(BS2 * longest, &zeros));
-  for (PetscInt r = 0; r < nrows; r++) {
-    const PetscInt crow = r < ptap->cend - ptap->cstart ? ptap->cstart + r : ptap->remote[r - (ptap->cend - ptap->cstart)];
-    if (li[r + 1] > li[r]) PetscCall(MatSetValuesBlocked(Cpre, 1, &crow, li[r + 1] - li[r], lj + li[r], zeros, INSERT_VALUES));
-  }
-  PetscCall(PetscFree(zeros));
+  PetscCall(PetscCalloc1(BS2 * longest, &ptap->tval));
+  PetscCall(AddSums(ptap, Cpre, nrows, li, lj, NULL, INSERT_VALUES));
   PetscCall(PetscFree(li));
   PetscCall(PetscFree(lj));
   PetscCall(MatAssemblyBegin(Cpre, MAT_FINAL_ASSEMBLY));
@@ -289,7 +268,7 @@ static PetscErrorCode PreallocateProducts(ClothBlockPtAP ptap, const BlockRows *
 PetscErrorCode ClothBlockPtAPCreate(Mat A, Mat P, ClothBlockPtAP *ptap)
 {
   ClothBlockPtAP p;
-  BlockRows      rows;
+  ClothBlockRows rows;
   PetscInt       bs, m, mp, ncoarse, cstart, cend;
   MPI_Comm       comm = PetscObjectComm((PetscObject)A);
 
@@ -306,7 +285,8 @@ PetscErrorCode ClothBlockPtAPCreate(Mat A, Mat P, ClothBlockPtAP *ptap)
   p->nlocal = m / BS;
   p->cstart = cstart / BS;
   p->cend   = cend / BS;
-  PetscCall(BlockRowsGet(A, &rows));
+  PetscCall(ClothBlockRowsGet(A, &rows));
+  p->upper = rows.upper;
   if (rows.Ao) {
     PetscInt nghost;
     PetscCall(MatGetSize(rows.Ao, NULL, &nghost));
@@ -317,7 +297,7 @@ PetscErrorCode ClothBlockPtAPCreate(Mat A, Mat P, ClothBlockPtAP *ptap)
   p->rmax = RowBound(p, &rows);
   PetscCall(PetscMalloc2(p->rmax, &p->rcol, BS2 * p->rmax, &p->rval));
   PetscCall(PreallocateProducts(p, &rows, comm, ncoarse / BS));
-  PetscCall(BlockRowsRestore(&rows));
+  PetscCall(ClothBlockRowsRestore(&rows));
   PetscCall(PetscLogEventEnd(ClothLog.block_ptap_symbolic, A, 0, 0, 0));
   *ptap = p;
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -342,7 +322,7 @@ static PetscErrorCode AddRowToSums(ClothBlockPtAP ptap, PetscInt r, PetscScalar 
 
 PetscErrorCode ClothBlockPtAPCompute(ClothBlockPtAP ptap, Mat A)
 {
-  BlockRows       rows;
+  ClothBlockRows  rows;
   const PetscInt *li, *lj;
   PetscScalar    *lv;
   PetscInt        nrows;
@@ -354,7 +334,8 @@ PetscErrorCode ClothBlockPtAPCompute(ClothBlockPtAP ptap, Mat A)
   PetscCall(MatZeroEntries(ptap->L));
   PetscCall(MatGetRowIJ(ptap->L, 0, PETSC_FALSE, PETSC_TRUE, &nrows, &li, &lj, &done));
   PetscCall(MatSeqBAIJGetArray(ptap->L, &lv));
-  PetscCall(BlockRowsGet(A, &rows));
+  PetscCall(ClothBlockRowsGet(A, &rows));
+  PetscCheck(rows.upper == ptap->upper, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONG, "Block Galerkin product: the matrix's storage (%s) is not the one it was created for", rows.upper ? "sbaij" : "baij");
   for (PetscInt i = 0; i < ptap->nlocal; i++) {
     PetscInt nr;
     FormRow(ptap, &rows, i, &nr);
@@ -364,12 +345,9 @@ PetscErrorCode ClothBlockPtAPCompute(ClothBlockPtAP ptap, Mat A)
       PetscCall(AddRowToSums(ptap, r, ptap->weight[q], nr, li, lj, lv));
     }
   }
-  PetscCall(BlockRowsRestore(&rows));
+  PetscCall(ClothBlockRowsRestore(&rows));
   PetscCall(MatZeroEntries(ptap->C));
-  for (PetscInt r = 0; r < nrows; r++) {
-    const PetscInt crow = r < ptap->cend - ptap->cstart ? ptap->cstart + r : ptap->remote[r - (ptap->cend - ptap->cstart)];
-    if (li[r + 1] > li[r]) PetscCall(MatSetValuesBlocked(ptap->C, 1, &crow, li[r + 1] - li[r], lj + li[r], lv + BS2 * li[r], ADD_VALUES));
-  }
+  PetscCall(AddSums(ptap, ptap->C, nrows, li, lj, lv, ADD_VALUES));
   PetscCall(MatSeqBAIJRestoreArray(ptap->L, &lv));
   PetscCall(MatRestoreRowIJ(ptap->L, 0, PETSC_FALSE, PETSC_TRUE, &nrows, &li, &lj, &done));
   PetscCall(MatAssemblyBegin(ptap->C, MAT_FINAL_ASSEMBLY));
@@ -394,6 +372,7 @@ PetscErrorCode ClothBlockPtAPDestroy(ClothBlockPtAP *ptap)
   PetscCall(PetscFree2((*ptap)->parent, (*ptap)->weight));
   PetscCall(PetscFree((*ptap)->remote));
   PetscCall(PetscFree2((*ptap)->rcol, (*ptap)->rval));
+  PetscCall(PetscFree((*ptap)->tval));
   PetscCall(MatDestroy(&(*ptap)->L));
   PetscCall(MatDestroy(&(*ptap)->C));
   PetscCall(PetscFree(*ptap));

@@ -1,4 +1,4 @@
-/* ClothBlockPtAP: the Galerkin product C = P^T A P of the implicit system's block matrix A (BAIJ, block size 3) and
+/* ClothBlockPtAP: the Galerkin product C = P^T A P of the implicit system's block matrix A (BAIJ or SBAIJ, block size 3) and
    an interpolation P whose rows are scalar weights times the 3x3 identity (the pattern grids' bilinear interpolation,
    gridhierarchy.h), computed from A's blocks as they are.
 
@@ -12,14 +12,16 @@
    MatCreateSubMatrices), and adds w R to the coarse rows I that i interpolates from (weight w). The sums go into a
    local block matrix over the coarse rows this rank touches, whose rows are then added into C (AIJ, block size 3,
    partitioned as P's columns; rows owned elsewhere travel in the matrix assembly). Nothing of the fine level's size
-   is stored: the local sums and C are coarse-level sized (1/16 of the particles at the default ratio 4). */
+   is stored: the local sums and C are coarse-level sized (1/16 of the particles at the default ratio 4).
+   Of an SBAIJ matrix, which stores only U, the upper triangle with the diagonal D, the rows give S = P^T (U - D/2) P
+   and C = S + S^T: each row of the sums is added to C once as it is and once transposed, as a block column. */
 #pragma once
 #include <petscmat.h>
 #include "util.h"
 
 typedef struct _n_ClothBlockPtAP *ClothBlockPtAP;
 
-/* The symbolic product: C's nonzero pattern from A's pattern and P. A is SEQBAIJ or MPIBAIJ with block size 3; P
+/* The symbolic product: C's nonzero pattern from A's pattern and P. A is (SEQ|MPI)(S)BAIJ with block size 3; P
    has A's row layout and block size 3, each row 3 i + c holding the columns 3 J + c with the weights of row 3 i.
    Collective. */
 PetscErrorCode ClothBlockPtAPCreate(Mat A, Mat P, ClothBlockPtAP *ptap);

@@ -188,9 +188,9 @@ PetscErrorCode ClothPeekContactNormals(Cloth cloth, Vec *normals);
    ClothContribution (ClothSelfContactGetContribution). */
 PetscErrorCode ClothSetSelfContact(Cloth cloth, ClothSelfContact sc);
 PetscErrorCode ClothGetSelfContact(Cloth cloth, ClothSelfContact *sc);
-/* A symmetric block (bs 3, BAIJ; -implicit_mat_type sbaij stores only the upper triangle) matrix with exactly the
-   nonzero pattern of the interactions, preallocated. */
-PetscErrorCode ClothCreateMatrix(Cloth cloth, Mat *A);
+/* A symmetric block (bs 3) matrix with exactly the nonzero pattern of the interactions, preallocated, of the given
+   type (MATBAIJ, or MATSBAIJ: only the upper triangle stored) unless -implicit_mat_type says otherwise. */
+PetscErrorCode ClothCreateMatrix(Cloth cloth, MatType type, Mat *A);
 /* Zeroes the constrained components of a vector of per-particle 3-vectors (v <- S v). Per particle,
    S = 0 when pinned or stuck, S = I - n n^T when held against a body with unit normal n (see
    ClothGetContactNormals), S = I when free. */

@@ -2,6 +2,7 @@
    serves them all, so forces and stiffness always come from the same element evaluation. */
 #include "cloth_impl.h"
 #include "log.h"
+#include "block_matrix.h"
 
 /* What one pass over the interactions accumulates (NULL / PETSC_FALSE: not wanted); the contributions' elements
    reach it as a ClothElementSink. */
@@ -389,7 +390,7 @@ static PetscErrorCode CountRowBlocks(Cloth cloth, PetscInt dnnz[], PetscInt onnz
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode ClothCreateMatrix(Cloth cloth, Mat *A)
+PetscErrorCode ClothCreateMatrix(Cloth cloth, MatType type, Mat *A)
 {
   PetscInt              *dnnz, *onnz, *dnnzu, *onnzu;
   ISLocalToGlobalMapping l2g;
@@ -399,7 +400,7 @@ PetscErrorCode ClothCreateMatrix(Cloth cloth, Mat *A)
   PetscCall(MatCreate(cloth->comm, A));
   PetscCall(MatSetSizes(*A, 3 * cloth->nlocal, 3 * cloth->nlocal, 3 * cloth->nglobal, 3 * cloth->nglobal));
   PetscCall(MatSetBlockSize(*A, 3));
-  PetscCall(MatSetType(*A, MATBAIJ));
+  PetscCall(MatSetType(*A, type));
   PetscCall(MatSetOptionsPrefix(*A, "implicit_"));
   PetscCall(MatSetFromOptions(*A));
   PetscCall(PetscMalloc4(cloth->nlocal, &dnnz, cloth->nlocal, &onnz, cloth->nlocal, &dnnzu, cloth->nlocal, &onnzu));
@@ -412,6 +413,7 @@ PetscErrorCode ClothCreateMatrix(Cloth cloth, Mat *A)
   PetscCall(MatSetLocalToGlobalMapping(*A, l2g, l2g));
   PetscCall(MatSetOption(*A, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
   PetscCall(PetscObjectTypeCompareAny((PetscObject)*A, &sbaij, MATSBAIJ, MATSEQSBAIJ, MATMPISBAIJ, ""));
+  PetscCall(ClothBlockMatrixSetUpOperations(*A));
   if (sbaij)
     PetscCall(MatSetOption(*A, MAT_IGNORE_LOWER_TRIANGULAR, PETSC_TRUE));
   else {

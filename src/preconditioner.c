@@ -2,6 +2,7 @@
 #include "preconditioner.h"
 #include "gridhierarchy.h"
 #include "block_ptap.h"
+#include "block_matrix.h"
 
 /* The default preconditioner (docs/performance.md, "Pattern-grid multigrid"):
    - a scene without seams (sheets, drapes): the pattern-grid multigrid from CLOTH_PC_GRID_MIN_PARTICLES particles on.
@@ -45,14 +46,24 @@
 #define CLOTH_PC_DEFAULT_LAG_EXCESS 10
 #define CLOTH_PC_DEFAULT_LAG_PAUSE 8
 
+/* The implicit matrix is stored as SBAIJ (the upper triangle of blocks) from this many particles on, where the
+   preconditioner takes it as it is (pattern-grid multigrid, point-block Jacobi). Every Krylov iteration streams the
+   matrix a few times and SBAIJ streams half the bytes. Measured on the hanging sheet with the multigrid (the same
+   iterations, docs/performance.md): 129 x 129 and 257 x 257 1.2-1.3x faster on 1 and 2 ranks and 470 bytes per
+   particle less; 65 x 65 (4,225 particles) the same; the dress (2,478 particles, point-block Jacobi, 2 ranks), whose
+   matrix fits in the caches, 3 % slower (MPISBAIJ's product has an extra exchange). GAMG's AIJ copy of an SBAIJ
+   matrix took 4x the iterations (129 x 129: 897 against 208 over 24 steps, cause not found), so GAMG keeps BAIJ. */
+#define CLOTH_SBAIJ_MIN_PARTICLES 10000
+
 /* A solve this many iterations or fewer never triggers a refresh: at such counts a ratio is noise. */
 #define CLOTH_PC_MIN_ITERATIONS 4
 
 struct _n_ClothPreconditioner {
-  KSP                ksp;           /* borrowed */
-  Cloth              cloth;         /* borrowed */
-  ClothGridHierarchy grid;          /* the pattern-grid levels of -pc_type mg, else NULL */
-  Mat               *coarse;        /* their operators, coarse[l] of level l < nlevels - 1 */
+  KSP                ksp;    /* borrowed */
+  Cloth              cloth;  /* borrowed */
+  ClothGridHierarchy grid;   /* the pattern-grid levels of -pc_type mg, else NULL */
+  Mat               *coarse; /* their operators, coarse[l] of level l < nlevels - 1 */
+  PetscInt           nparticles;
   PetscBool          block_product; /* the finest Galerkin product is taken of the block matrix itself (block_ptap.h) */
   ClothBlockPtAP     block_ptap;    /* that product, while the matrix's nonzero pattern lasts */
   PetscBool          kept;          /* the preconditioner is kept between steps (multilevel types) */
@@ -145,6 +156,7 @@ PetscErrorCode ClothPreconditionerCreate(KSP ksp, Cloth cloth, ClothPrecondition
   PetscCall(PetscNew(&p));
   p->ksp           = ksp;
   p->cloth         = cloth;
+  p->nparticles    = nparticles;
   p->lag_ratio     = CLOTH_PC_DEFAULT_LAG_RATIO;
   p->rebuild_ratio = 1.5;
   p->lag_max       = CLOTH_PC_DEFAULT_LAG_MAX;
@@ -181,7 +193,7 @@ static PetscErrorCode SetUpGridMultigrid(ClothPreconditioner pre, PC pc)
   PetscCall(PetscOptionsInt("-implicit_pc_grid_ratio", "Pattern-grid multigrid: keep every ratio-th row and column of each piece on the next coarser level", "ClothGridHierarchyCreate", ratio, &ratio, NULL));
   PetscCall(PetscOptionsInt("-implicit_pc_grid_levels", "Pattern-grid multigrid: at most this many levels, the cloth included", "ClothGridHierarchyCreate", max_levels, &max_levels, NULL));
   PetscCall(PetscOptionsInt("-implicit_pc_grid_coarse_particles", "Pattern-grid multigrid: coarsen until a level has at most this many particles (solved directly)", "ClothGridHierarchyCreate", coarse_particles, &coarse_particles, NULL));
-  PetscCall(PetscOptionsBool("-implicit_pc_grid_block_product", "Pattern-grid multigrid: take the finest Galerkin product of the block (BAIJ) matrix itself (false: of an AIJ copy, by MatPtAP)", "ClothBlockPtAPCreate", pre->block_product,
+  PetscCall(PetscOptionsBool("-implicit_pc_grid_block_product", "Pattern-grid multigrid: take the finest Galerkin product of the block (BAIJ or SBAIJ) matrix itself (false: of an AIJ copy, by MatPtAP)", "ClothBlockPtAPCreate", pre->block_product,
                              &pre->block_product, NULL));
   PetscOptionsEnd();
   PetscCheck(max_levels >= 1 && max_levels <= CLOTH_GRID_MAX_LEVELS, PetscObjectComm((PetscObject)pc), PETSC_ERR_USER_INPUT, "-implicit_pc_grid_levels %" PetscInt_FMT ": expected 1 to %d", max_levels, CLOTH_GRID_MAX_LEVELS);
@@ -250,6 +262,18 @@ PetscErrorCode ClothPreconditionerSetFromOptions(ClothPreconditioner pre)
   PetscCall(PCGetOptionsPrefix(pc, &prefix));
   PetscCall(PetscOptionsHasName(NULL, prefix, "-pc_use_amat", &use_amat_set));
   if (!use_amat_set) PetscCall(PCSetUseAmat(pc, PETSC_TRUE));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothPreconditionerGetMatType(ClothPreconditioner pre, MatType *type)
+{
+  PC        pc;
+  PetscBool takes_block;
+
+  PetscFunctionBeginUser;
+  PetscCall(KSPGetPC(pre->ksp, &pc));
+  PetscCall(PetscObjectTypeCompareAny((PetscObject)pc, &takes_block, PCMG, PCPBJACOBI, ""));
+  *type = takes_block && pre->nparticles >= CLOTH_SBAIJ_MIN_PARTICLES ? MATSBAIJ : MATBAIJ;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -335,14 +359,14 @@ static PetscErrorCode RefreshGridOperators(ClothPreconditioner pre, PC pc, Mat A
   PetscInt  nlevels;
   Mat       fine = P, interpolation;
   KSP       smoother;
-  PetscBool baij;
+  PetscBool block;
 
   PetscFunctionBeginUser;
   PetscCall(ClothGridHierarchyGetLevels(pre->grid, &nlevels));
-  PetscCall(PetscObjectTypeCompareAny((PetscObject)P, &baij, MATSEQBAIJ, MATMPIBAIJ, ""));
+  PetscCall(ClothBlockMatrixIsBlock(P, &block));
   for (PetscInt l = nlevels - 1; l > 0; l--) {
     PetscCall(ClothGridHierarchyGetInterpolation(pre->grid, l, &interpolation));
-    if (l == nlevels - 1 && baij)
+    if (l == nlevels - 1 && block)
       PetscCall(BlockGalerkinProduct(pre, l, P, interpolation, new_pattern));
     else {
       if (new_pattern) PetscCall(MatDestroy(&pre->coarse[l - 1]));
@@ -357,21 +381,31 @@ static PetscErrorCode RefreshGridOperators(ClothPreconditioner pre, PC pc, Mat A
 }
 
 /* The matrix the preconditioner is built from: A itself, or its AIJ copy brought up to date. The pattern-grid
-   multigrid takes a BAIJ matrix as it is (its finest Galerkin product is ClothBlockPtAP's); other block formats
-   (SBAIJ) and GAMG get the copy. */
+   multigrid takes a block matrix (BAIJ, SBAIJ) as it is (its finest Galerkin product is ClothBlockPtAP's); GAMG
+   gets the copy. */
 static PetscErrorCode UpdatePreconditioningMatrix(ClothPreconditioner pre, Mat A, PetscBool new_pattern, Mat *P)
 {
-  PetscBool aij, baij;
+  PetscBool aij, block, sbaij;
 
   PetscFunctionBeginUser;
   PetscCall(PetscObjectTypeCompareAny((PetscObject)A, &aij, MATAIJ, MATSEQAIJ, MATMPIAIJ, ""));
-  PetscCall(PetscObjectTypeCompareAny((PetscObject)A, &baij, MATBAIJ, MATSEQBAIJ, MATMPIBAIJ, ""));
-  if (!pre->copy_aij || aij || (baij && pre->grid && pre->block_product)) {
+  PetscCall(ClothBlockMatrixIsBlock(A, &block));
+  if (!pre->copy_aij || aij || (block && pre->grid && pre->block_product)) {
     *P = A;
     PetscFunctionReturn(PETSC_SUCCESS);
   }
   if (new_pattern) PetscCall(MatDestroy(&pre->P));
-  PetscCall(MatConvert(A, MATAIJ, pre->P ? MAT_REUSE_MATRIX : MAT_INITIAL_MATRIX, &pre->P));
+  PetscCall(PetscObjectTypeCompareAny((PetscObject)A, &sbaij, MATSEQSBAIJ, MATMPISBAIJ, ""));
+  if (sbaij && pre->P) {
+    /* PETSc 3.18's MatConvert of SEQSBAIJ with MAT_REUSE_MATRIX writes block-row offsets into the AIJ matrix's point
+       rows (src/mat/impls/sbaij/seq/aijsbaij.c; GAMG's next product then overran the heap, seen with valgrind):
+       convert afresh and copy the values into the copy GAMG holds. */
+    Mat fresh;
+    PetscCall(MatConvert(A, MATAIJ, MAT_INITIAL_MATRIX, &fresh));
+    PetscCall(MatCopy(fresh, pre->P, SAME_NONZERO_PATTERN));
+    PetscCall(MatDestroy(&fresh));
+  } else
+    PetscCall(MatConvert(A, MATAIJ, pre->P ? MAT_REUSE_MATRIX : MAT_INITIAL_MATRIX, &pre->P));
   *P = pre->P;
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -42,6 +42,10 @@ typedef enum { CLOTH_PC_LAG, CLOTH_PC_REFRESH, CLOTH_PC_REBUILD } ClothPCUpdate;
 PetscErrorCode ClothPreconditionerCreate(KSP ksp, Cloth cloth, ClothPreconditioner *pre);
 /* -implicit_pc_lag_ratio; call after KSPSetFromOptions(ksp), when the preconditioner type is known. */
 PetscErrorCode ClothPreconditionerSetFromOptions(ClothPreconditioner pre);
+/* The storage of the implicit matrix that suits the preconditioner (after SetFromOptions; -implicit_mat_type
+   overrides it): SBAIJ for large systems preconditioned by the pattern-grid multigrid or point-block Jacobi, which
+   take it as it is; BAIJ otherwise. */
+PetscErrorCode ClothPreconditionerGetMatType(ClothPreconditioner pre, MatType *type);
 /* Before a solve with A at step size h and particle positions x (solver numbering, block size 3 layout of A):
    sets the operators of the KSP and lags, refreshes or rebuilds its preconditioner. */
 PetscErrorCode ClothPreconditionerPrepare(ClothPreconditioner pre, Mat A, Vec x, PetscReal h, ClothPCUpdate *update);

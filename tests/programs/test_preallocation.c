@@ -25,7 +25,7 @@ static PetscErrorCode AssembleAndCheck(Cloth cloth, const char type[], PetscLogD
 
   PetscFunctionBeginUser;
   PetscCall(PetscOptionsSetValue(NULL, "-implicit_mat_type", type));
-  PetscCall(ClothCreateMatrix(cloth, A));
+  PetscCall(ClothCreateMatrix(cloth, MATBAIJ, A));
   PetscCall(MatGetType(*A, &actual));
   PetscCall(PetscStrendswith(actual, type, &match));
   PetscCheck(match, PETSC_COMM_WORLD, PETSC_ERR_PLIB, "-implicit_mat_type %s gave a matrix of type %s", type, actual);

@@ -217,7 +217,7 @@ static PetscErrorCode CheckJacobian(Cloth cloth, ClothSelfContact sc, PetscReal 
   PetscCall(ClothSetSelfContact(cloth, sc));
   PetscCall(ClothAddContribution(cloth, &repulsion));
   PetscCall(ClothSelfContactUpdate(sc, 1.0, &changed)); /* zero velocity: contacts within the thickness */
-  PetscCall(ClothCreateMatrix(cloth, &A));
+  PetscCall(ClothCreateMatrix(cloth, MATBAIJ, &A));
   PetscCall(ClothGetState(cloth, &x, &v));
   PetscCall(VecDuplicate(x, &d));
   PetscCall(VecDuplicate(x, &Ad));

@@ -58,7 +58,7 @@ int main(int argc, char **argv)
   PetscCall(ClothGetState(cloth, &x, &v));
   PetscCall(ClothGetSizes(cloth, &nlocal, &nglobal));
   PetscCall(ClothGetMasses(cloth, &mass, NULL));
-  PetscCall(ClothCreateMatrix(cloth, &A));
+  PetscCall(ClothCreateMatrix(cloth, MATBAIJ, &A));
   PetscCall(ClothCreateStateVec(cloth, &rhs));
   PetscCall(ClothAssembleImplicitSystem(cloth, h, x, v, A, rhs));
   PetscCall(MatCreateVecs(A, &e, &acol));
