@@ -24,8 +24,8 @@ struct _n_ClothBlockPtAP {
   PetscLogDouble flops; /* of the current product, for -log_view */
 };
 
-/* The parents of the fine particles from the interpolation rows 3 g (g: the particles' global indices), k-th
-   particle's from row k of Q; pass 0 counts into poffset[first + k + 1], pass 1 fills. */
+/* The parents of the fine particles from the scalar interpolation rows (one per particle), the k-th particle's from
+   row qstart + k of Q; pass 0 counts into poffset[first + k + 1], pass 1 fills. */
 static PetscErrorCode ReadParents(ClothBlockPtAP ptap, Mat Q, PetscInt qstart, PetscInt n, PetscInt first, PetscInt pass)
 {
   PetscFunctionBeginUser;
@@ -36,8 +36,7 @@ static PetscErrorCode ReadParents(ClothBlockPtAP ptap, Mat Q, PetscInt qstart, P
     PetscCall(MatGetRow(Q, qstart + k, &ncols, &cols, &vals));
     if (pass == 0) ptap->poffset[first + k + 1] = ncols;
     for (PetscInt c = 0; pass == 1 && c < ncols; c++) {
-      PetscCheck(cols[c] % BS == 0, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONG, "Interpolation row %" PetscInt_FMT " has column %" PetscInt_FMT ": expected the scalar weights times the 3x3 identity", qstart + k, cols[c]);
-      ptap->parent[ptap->poffset[first + k] + c] = cols[c] / BS;
+      ptap->parent[ptap->poffset[first + k] + c] = cols[c];
       ptap->weight[ptap->poffset[first + k] + c] = vals[c];
     }
     PetscCall(MatRestoreRow(Q, qstart + k, &ncols, &cols, &vals));
@@ -45,31 +44,36 @@ static PetscErrorCode ReadParents(ClothBlockPtAP ptap, Mat Q, PetscInt qstart, P
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* The interpolation rows of the owned fine particles and of A's ghosts (fetched from their owners). */
+/* The interpolation rows of the owned fine particles and of A's ghosts (fetched from their owners), from P's
+   scalar weights (P is MAIJ with 3 components, gridhierarchy.h). */
 static PetscErrorCode GetParents(ClothBlockPtAP ptap, Mat P, const ClothBlockRows *rows)
 {
-  PetscInt rstart, ncols;
-  IS       isrow, iscol;
-  Mat     *ghost = NULL;
+  PetscInt  rstart, ncols, dof;
+  IS        isrow, iscol;
+  Mat      *ghost = NULL, Q;
+  PetscBool maij;
 
   PetscFunctionBeginUser;
-  PetscCall(MatGetOwnershipRange(P, &rstart, NULL));
-  PetscCall(MatGetSize(P, NULL, &ncols));
+  PetscCall(PetscObjectTypeCompareAny((PetscObject)P, &maij, MATSEQMAIJ, MATMPIMAIJ, ""));
+  PetscCall(MatGetBlockSize(P, &dof));
+  PetscCheck(maij && dof == BS, PetscObjectComm((PetscObject)P), PETSC_ERR_ARG_WRONG, "Block Galerkin product: the interpolation must be MAIJ with %d components (scalar weights times the 3x3 identity)", BS);
+  PetscCall(MatMAIJGetAIJ(P, &Q));
+  PetscCall(MatGetOwnershipRange(Q, &rstart, NULL));
+  PetscCall(MatGetSize(Q, NULL, &ncols));
   if (rows->Ao) { /* collective: also on a rank without ghosts */
     PetscInt *prow;
     PetscCall(PetscMalloc1(ptap->nghost, &prow));
-    for (PetscInt k = 0; k < ptap->nghost; k++) prow[k] = BS * rows->garray[k];
+    for (PetscInt k = 0; k < ptap->nghost; k++) prow[k] = rows->garray[k];
     PetscCall(ISCreateGeneral(PETSC_COMM_SELF, ptap->nghost, prow, PETSC_OWN_POINTER, &isrow));
     PetscCall(ISCreateStride(PETSC_COMM_SELF, ncols, 0, 1, &iscol));
-    PetscCall(MatCreateSubMatrices(P, 1, &isrow, &iscol, MAT_INITIAL_MATRIX, &ghost));
+    PetscCall(MatCreateSubMatrices(Q, 1, &isrow, &iscol, MAT_INITIAL_MATRIX, &ghost));
     PetscCall(ISDestroy(&isrow));
     PetscCall(ISDestroy(&iscol));
   }
   PetscCall(PetscMalloc1(ptap->nlocal + ptap->nghost + 1, &ptap->poffset));
   ptap->poffset[0] = 0;
   for (PetscInt pass = 0; pass < 2; pass++) {
-    /* owned rows 3 i of P: one MatGetRow each (every third row) */
-    for (PetscInt i = 0; i < ptap->nlocal; i++) PetscCall(ReadParents(ptap, P, rstart + BS * i, 1, i, pass));
+    PetscCall(ReadParents(ptap, Q, rstart, ptap->nlocal, 0, pass));
     if (ghost) PetscCall(ReadParents(ptap, ghost[0], 0, ptap->nghost, ptap->nlocal, pass));
     if (pass == 0) {
       for (PetscInt k = 0; k < ptap->nlocal + ptap->nghost; k++) ptap->poffset[k + 1] += ptap->poffset[k];

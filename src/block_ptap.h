@@ -21,8 +21,8 @@
 
 typedef struct _n_ClothBlockPtAP *ClothBlockPtAP;
 
-/* The symbolic product: C's nonzero pattern from A's pattern and P. A is (SEQ|MPI)(S)BAIJ with block size 3; P
-   has A's row layout and block size 3, each row 3 i + c holding the columns 3 J + c with the weights of row 3 i.
+/* The symbolic product: C's nonzero pattern from A's pattern and P. A is (SEQ|MPI)(S)BAIJ with block size 3; P is
+   MAIJ with 3 components and A's row layout: its scalar matrix's row i holds the weights of fine particle i.
    Collective. */
 PetscErrorCode ClothBlockPtAPCreate(Mat A, Mat P, ClothBlockPtAP *ptap);
 /* The numeric product of A's current values (same nonzero pattern as at Create). Collective. */

@@ -24,7 +24,8 @@ typedef struct _n_ClothGridHierarchy *ClothGridHierarchy;
    further, or there are max_levels levels (the cloth included). Collective; after ClothSetUp. */
 PetscErrorCode ClothGridHierarchyCreate(Cloth cloth, PetscInt ratio, PetscInt max_levels, PetscInt coarse_particles, ClothGridHierarchy *gh);
 PetscErrorCode ClothGridHierarchyGetLevels(ClothGridHierarchy gh, PetscInt *nlevels);
-/* The interpolation from level - 1 to level (1 <= level < nlevels), AIJ with block size 3 (borrowed). */
+/* The interpolation from level - 1 to level (1 <= level < nlevels) (borrowed): the finest one (level nlevels - 1)
+   MAIJ with 3 components (its scalar weights: MatMAIJGetAIJ), the others AIJ with block size 3. */
 PetscErrorCode ClothGridHierarchyGetInterpolation(ClothGridHierarchy gh, PetscInt level, Mat *P);
 /* The particles of a level (global). */
 PetscErrorCode ClothGridHierarchyGetLevelSize(ClothGridHierarchy gh, PetscInt level, PetscInt *nparticles);

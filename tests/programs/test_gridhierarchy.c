@@ -12,6 +12,7 @@
    (5) With -pinned (a scene with pinned particles; (2)-(4) then do not apply): the coarse space vanishes on pins. On
        the finest interpolation a pinned particle's row is empty or a single 1 (it is a coarse particle itself), and no
        free particle's row reaches a coarse particle that sits on a pin.
+   (6) The finest interpolation is MAIJ (its scalar weights stored once for the three components), the others AIJ.
    The interpolation must not depend on the partition: run on 1 and 3 ranks, the sizes and checks are the same. */
 #include <petscksp.h>
 #include "test_support.h"
@@ -43,7 +44,12 @@ static PetscErrorCode LeastSquares(Mat P, Vec f, Vec *c, PetscReal *relative)
   PetscReal nr, nf;
 
   PetscFunctionBeginUser;
-  PetscCall(MatTransposeMatMult(P, P, MAT_INITIAL_MATRIX, PETSC_DEFAULT, &M));
+  { /* P^T P of an AIJ copy (MatTransposeMatMult does not take the finest level's MAIJ); P itself below */
+    Mat Paij;
+    PetscCall(MatConvert(P, MATAIJ, MAT_INITIAL_MATRIX, &Paij));
+    PetscCall(MatTransposeMatMult(Paij, Paij, MAT_INITIAL_MATRIX, PETSC_DEFAULT, &M));
+    PetscCall(MatDestroy(&Paij));
+  }
   PetscCall(MatCreateVecs(P, c, &r));
   PetscCall(VecDuplicate(*c, &rhs));
   PetscCall(MatMultTranspose(P, f, rhs));
@@ -168,7 +174,9 @@ int main(int argc, char **argv)
     Mat      P;
     PetscInt rows;
     PetscCall(ClothGridHierarchyGetInterpolation(gh, nlevels - 1, &P));
+    PetscCall(MatConvert(P, MATAIJ, MAT_INITIAL_MATRIX, &P)); /* MatGetRow: of an AIJ copy of the MAIJ */
     PetscCall(CheckPinned(cloth, P, &rows));
+    PetscCall(MatDestroy(&P));
     PetscCheck(rows > 0, PETSC_COMM_WORLD, PETSC_ERR_PLIB, "-pinned: the scene has no pinned particles");
     PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%" PetscInt_FMT " rows of pinned particles: the coarse space vanishes on them\n", rows / 3));
     PetscCall(ClothGridHierarchyDestroy(&gh));
@@ -184,8 +192,11 @@ int main(int argc, char **argv)
   PetscCall(VecDuplicate(x, &fsq));
   PetscCall(CentredSquares(x, fsq));
   for (PetscInt l = nlevels - 1; l >= 1; l--) {
-    Mat P;
+    Mat       P;
+    PetscBool maij;
     PetscCall(ClothGridHierarchyGetInterpolation(gh, l, &P));
+    PetscCall(PetscObjectTypeCompareAny((PetscObject)P, &maij, MATSEQMAIJ, MATMPIMAIJ, ""));
+    PetscCheck(maij == (l == nlevels - 1), PETSC_COMM_WORLD, PETSC_ERR_PLIB, "P_%" PetscInt_FMT " is %sMAIJ: expected MAIJ for the finest level only", l, maij ? "" : "not ");
     PetscCall(RowSumError(P, &err));
     PetscCall(LeastSquares(P, f, &c, &rel));
     PetscCall(PetscPrintf(PETSC_COMM_WORLD, "level %" PetscInt_FMT " -> %" PetscInt_FMT ": largest |row sum - 1| %.2e, linear field's relative residual %.2e", l - 1, l, (double)err, (double)rel));
