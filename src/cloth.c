@@ -1,4 +1,5 @@
 /* Cloth: the distributed fabric (see cloth.h). */
+#include <stddef.h>
 #include "cloth_impl.h"
 #include "log.h"
 #include "options.h"
@@ -163,6 +164,39 @@ PetscErrorCode ClothLocalizeInteraction(Cloth cloth, PetscInt np, const PetscInt
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* Orders this rank's links (indices into cloth->links, whose param is still the model's link) by their parameters,
+   everything of a ClothLink but p, byte for byte: equal parameters compare equal. */
+static int CompareLinkParametersOf(const void *a, const void *b, void *ctx)
+{
+  const Cloth      cloth = (Cloth)ctx;
+  const ClothLink *la = &cloth->model->links[cloth->links[*(const PetscInt *)a].param], *lb = &cloth->model->links[cloth->links[*(const PetscInt *)b].param];
+  return memcmp(&la->k, &lb->k, sizeof(ClothLink) - offsetof(ClothLink, k));
+}
+
+/* Replaces each link's model index (in param) by the index of its parameters in link_params, one entry per
+   distinct set: sorted by parameters, equal neighbours share an entry. */
+static PetscErrorCode ClothShareLinkParameters(Cloth cloth)
+{
+  PetscInt *order, *param, n = -1;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMalloc2(cloth->nlinks, &order, cloth->nlinks, &param));
+  for (PetscInt l = 0; l < cloth->nlinks; l++) order[l] = l;
+  PetscCall(PetscTimSort(cloth->nlinks, order, sizeof(PetscInt), CompareLinkParametersOf, cloth));
+  for (PetscInt r = 0; r < cloth->nlinks; r++) {
+    if (r == 0 || CompareLinkParametersOf(&order[r - 1], &order[r], cloth) != 0) n++;
+    param[order[r]] = n;
+  }
+  cloth->nlink_params = n + 1;
+  PetscCall(PetscMalloc1(PetscMax(cloth->nlink_params, 1), &cloth->link_params));
+  for (PetscInt l = 0; l < cloth->nlinks; l++) {
+    cloth->link_params[param[l]] = cloth->model->links[cloth->links[l].param];
+    cloth->links[l].param        = param[l];
+  }
+  PetscCall(PetscFree2(order, param));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 /* Keeps this rank's links and elastic angle springs, renumbered to local indices (the other interactions of the
    model: their contributions, ClothModelContributions). */
 static PetscErrorCode ClothDistributeInteractions(Cloth cloth, PetscMPIInt rank)
@@ -178,10 +212,11 @@ static PetscErrorCode ClothDistributeInteractions(Cloth cloth, PetscMPIInt rank)
   for (PetscInt l = 0; l < m->nlinks; l++) {
     PetscCall(ClothLocalizeInteraction(cloth, 2, m->links[l].p, &here, local));
     if (!here) continue;
-    cloth->links[cloth->nlinks] = m->links[l];
     for (PetscInt k = 0; k < 2; k++) cloth->links[cloth->nlinks].p[k] = local[k];
+    cloth->links[cloth->nlinks].param = l; /* the model's link, until ClothShareLinkParameters */
     cloth->nlinks++;
   }
+  PetscCall(ClothShareLinkParameters(cloth));
   for (PetscInt a = 0; a < m->nangles; a++) {
     const PetscInt np = ClothAngleParticleCount(m->angles[a].kind);
 
@@ -394,6 +429,7 @@ PetscErrorCode ClothDestroy(Cloth *cloth)
   if (c->setup) {
     PetscCall(PetscFree4(c->natural_of_local, c->mass, c->damping, c->fixed));
     PetscCall(PetscFree2(c->links, c->angles));
+    PetscCall(PetscFree(c->link_params));
   }
   PetscCall(VecDestroy(&c->position));
   PetscCall(VecDestroy(&c->velocity));
@@ -445,6 +481,7 @@ PetscErrorCode ClothGetLayout(Cloth cloth, ClothLayout *layout)
   layout->adjncy            = cloth->adjncy;
   layout->nlinks            = cloth->nlinks;
   layout->links             = cloth->links;
+  layout->link_params       = cloth->link_params;
   layout->fixed             = cloth->fixed;
   layout->model             = cloth->model;
   layout->scene             = cloth->scene;

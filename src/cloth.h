@@ -169,8 +169,9 @@ typedef struct {
   const PetscInt  *solver_of_natural; /* natural -> solver index */
   const PetscInt  *natural_of_local;  /* local -> natural */
   const PetscInt  *xadj, *adjncy;     /* the interaction graph in natural order (CSR, sorted neighbours) */
-  PetscInt         nlinks;            /* the links this rank evaluates, in local particle numbers */
-  const ClothLink *links;
+  PetscInt            nlinks;      /* the links this rank evaluates, in local particle numbers */
+  const ClothLinkRef *links;       /* their particles and parameters: ClothLinkExpand(link_params, links[l]) */
+  const ClothLink    *link_params;
   const PetscBool *fixed; /* local: pinned particles */
   ClothModel       model;
   Scene            scene;

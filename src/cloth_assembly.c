@@ -144,7 +144,8 @@ static PetscErrorCode ClothEvaluateInteractions(Cloth cloth, const PetscScalar *
   ev->cloth = cloth;
   ev->x     = x;
   for (PetscInt l = 0; l < cloth->nlinks; l++) {
-    PetscCall(EvaluateLink(&cloth->links[l], x, want_h, ev->psd, &e));
+    const ClothLink link = ClothLinkExpand(cloth->link_params, cloth->links[l]);
+    PetscCall(EvaluateLink(&link, x, want_h, ev->psd, &e));
     PetscCall(ClothElementSinkAdd(ev, &e));
   }
   for (PetscInt a = 0; a < cloth->nangles; a++) {

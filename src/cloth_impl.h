@@ -27,7 +27,9 @@ struct _n_Cloth {
   PetscReal  *mass, *damping; /* owned */
   PetscBool  *fixed;          /* owned and ghosts */
   PetscInt    nlinks, nangles;
-  ClothLink  *links;             /* local particle indices */
+  ClothLinkRef *links;           /* local particle indices and the index of their parameters in link_params */
+  ClothLink    *link_params;     /* the distinct parameter sets of this rank's links (their p unused) */
+  PetscInt      nlink_params;
   ClothAngle *angles;            /* the elastic ones (slip 0; friction elements: hysteresis.c), local particle indices */
   PetscInt    nangles_evaluated; /* every angle element of the model this rank evaluates, elastic or friction */
   PetscReal   gravity_scale;     /* 1, or 0 while seams are pulled together (sewing.h) */

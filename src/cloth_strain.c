@@ -99,7 +99,8 @@ static PetscErrorCode ClothStretchLocal(const ClothLayout *layout, const PetscSc
   PetscFunctionBeginUser;
   for (PetscInt i = 0; i < 3 * (layout->nlocal + layout->nghost); i++) s[i] = -PETSC_MAX_REAL;
   for (PetscInt l = 0; l < layout->nlinks; l++) {
-    const ClothLink *link = &layout->links[l];
+    const ClothLink  expanded = ClothLinkExpand(layout->link_params, layout->links[l]);
+    const ClothLink *link     = &expanded;
     const PetscInt   a = link->p[0], b = link->p[1];
     PetscBool        stretch, along_u;
     PetscReal        xa[3], xb[3], value;

@@ -22,6 +22,23 @@ typedef struct {
   PetscReal k_stiff;      /* stiffness beyond the knee, N/m */
 } ClothLink;
 
+/* A link as the cloth keeps it: its two particles and the index of its parameters (a ClothLink whose p is unused),
+   which few links differ in (a piece's links share them by direction). 12 bytes instead of ClothLink's 56: at 5.85
+   links per particle of a sheet, 257 bytes per particle less. */
+typedef struct {
+  PetscInt p[2];
+  PetscInt param;
+} ClothLinkRef;
+
+/* The full link of a reference. */
+static inline ClothLink ClothLinkExpand(const ClothLink params[], ClothLinkRef ref)
+{
+  ClothLink link = params[ref.param];
+  link.p[0]      = ref.p[0];
+  link.p[1]      = ref.p[1];
+  return link;
+}
+
 typedef enum {
   CLOTH_ANGLE_CORNER, /* arms p0->p1 and p0->p2 (warp-weft angle at a cell corner: shear) */
   CLOTH_ANGLE_CHAIN,  /* arms p0->p1 and p1->p2 (consecutive segments of one thread: bending) */
