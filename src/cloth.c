@@ -280,8 +280,8 @@ static PetscErrorCode ClothSetUpNaturalScatter(Cloth cloth)
   PetscCallMPI(MPI_Comm_size(cloth->comm, &size));
   PetscCallMPI(MPI_Comm_rank(cloth->comm, &rank));
   nnat = cloth->nglobal / size + (rank < cloth->nglobal % size ? 1 : 0);
-  PetscCall(VecCreateMPI(cloth->comm, 3 * nnat, 3 * cloth->nglobal, &cloth->natural));
-  PetscCall(VecSetBlockSize(cloth->natural, 3));
+  /* a layout only, without values (24 bytes per particle): ClothCreateNaturalVec duplicates it, the scatter reads its layout */
+  PetscCall(VecCreateMPIWithArray(cloth->comm, 3, 3 * nnat, 3 * cloth->nglobal, NULL, &cloth->natural));
   PetscCall(PetscMalloc2(cloth->nlocal, &from, cloth->nlocal, &to));
   for (PetscInt i = 0; i < cloth->nlocal; i++) {
     from[i] = cloth->rstart + i;

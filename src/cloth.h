@@ -163,18 +163,18 @@ PetscErrorCode ClothLocalizeInteraction(Cloth cloth, PetscInt np, const PetscInt
 /* The distribution of the particles, read-only and borrowed, for contributions and other modules built on the
    cloth. Solver numbering: each rank owns [rstart, rstart + nlocal); local numbering: owned then ghosts. */
 typedef struct {
-  MPI_Comm         comm;
-  PetscInt         nglobal, nlocal, nghost, rstart;
-  const PetscInt  *part;              /* natural -> owning rank */
-  const PetscInt  *solver_of_natural; /* natural -> solver index */
-  const PetscInt  *natural_of_local;  /* local -> natural */
-  const PetscInt  *xadj, *adjncy;     /* the interaction graph in natural order (CSR, sorted neighbours) */
-  PetscInt            nlinks;      /* the links this rank evaluates, in local particle numbers */
-  const ClothLinkRef *links;       /* their particles and parameters: ClothLinkExpand(link_params, links[l]) */
+  MPI_Comm            comm;
+  PetscInt            nglobal, nlocal, nghost, rstart;
+  const PetscInt     *part;              /* natural -> owning rank */
+  const PetscInt     *solver_of_natural; /* natural -> solver index */
+  const PetscInt     *natural_of_local;  /* local -> natural */
+  const PetscInt     *xadj, *adjncy;     /* the interaction graph in natural order (CSR, sorted neighbours) */
+  PetscInt            nlinks;            /* the links this rank evaluates, in local particle numbers */
+  const ClothLinkRef *links;             /* their particles and parameters: ClothLinkExpand(link_params, links[l]) */
   const ClothLink    *link_params;
-  const PetscBool *fixed; /* local: pinned particles */
-  ClothModel       model;
-  Scene            scene;
+  const PetscBool    *fixed; /* local: pinned particles */
+  ClothModel          model;
+  Scene               scene;
 } ClothLayout;
 /* After ClothSetUp. */
 PetscErrorCode ClothGetLayout(Cloth cloth, ClothLayout *layout);

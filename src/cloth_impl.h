@@ -24,17 +24,17 @@ struct _n_Cloth {
   PetscInt *ghosts;            /* solver indices of the ghosts, ascending */
   PetscInt  edge_cut;
 
-  PetscReal  *mass, *damping; /* owned */
-  PetscBool  *fixed;          /* owned and ghosts */
-  PetscInt    nlinks, nangles;
-  ClothLinkRef *links;           /* local particle indices and the index of their parameters in link_params */
-  ClothLink    *link_params;     /* the distinct parameter sets of this rank's links (their p unused) */
+  PetscReal    *mass, *damping; /* owned */
+  PetscBool    *fixed;          /* owned and ghosts */
+  PetscInt      nlinks, nangles;
+  ClothLinkRef *links;       /* local particle indices and the index of their parameters in link_params */
+  ClothLink    *link_params; /* the distinct parameter sets of this rank's links (their p unused) */
   PetscInt      nlink_params;
-  ClothAngle *angles;            /* the elastic ones (slip 0; friction elements: hysteresis.c), local particle indices */
-  PetscInt    nangles_evaluated; /* every angle element of the model this rank evaluates, elastic or friction */
-  PetscReal   gravity_scale;     /* 1, or 0 while seams are pulled together (sewing.h) */
-  PetscReal   friction_scale;    /* multiplies body friction: 1, or sewing's pull_friction while seams are pulled */
-  PetscInt   *xadj, *adjncy;     /* natural-order adjacency, kept for preallocation */
+  ClothAngle   *angles;            /* the elastic ones (slip 0; friction elements: hysteresis.c), local particle indices */
+  PetscInt      nangles_evaluated; /* every angle element of the model this rank evaluates, elastic or friction */
+  PetscReal     gravity_scale;     /* 1, or 0 while seams are pulled together (sewing.h) */
+  PetscReal     friction_scale;    /* multiplies body friction: 1, or sewing's pull_friction while seams are pulled */
+  PetscInt     *xadj, *adjncy;     /* natural-order adjacency, kept for preallocation */
 
   Vec position, velocity, work_force, work_kv;
   Vec contact_normal;                                                 /* ghosted, bs 3: unit normal of each particle's contact constraint, 0 when free
@@ -42,6 +42,6 @@ struct _n_Cloth {
   struct _n_ClothSelfContact *self_contact;                           /* cloth-cloth contacts whose updates the integrator applies (borrowed, NULL: off) */
   ClothContribution           contributions[CLOTH_MAX_CONTRIBUTIONS]; /* plugged-in forces (cloth.h) */
   PetscInt                    ncontributions;
-  Vec                         natural; /* template for natural-order Vecs */
+  Vec                         natural; /* layout of natural-order Vecs (no values of its own) */
   VecScatter                  to_natural;
 };

@@ -245,7 +245,8 @@ static PetscErrorCode BuildInterpolation(MPI_Comm comm, const GridLevel *fine, c
   if (maij) {
     PetscCall(MatCreateMAIJ(Q, 3, P));
     PetscCall(MatDestroy(&Q));
-  } else *P = Q;
+  } else
+    *P = Q;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
