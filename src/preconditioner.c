@@ -59,11 +59,11 @@
 #define CLOTH_PC_MIN_ITERATIONS 4
 
 struct _n_ClothPreconditioner {
-  KSP                ksp;    /* borrowed */
-  Cloth              cloth;  /* borrowed */
-  ClothGridHierarchy grid;   /* the pattern-grid levels of -pc_type mg, else NULL */
-  Mat               *coarse; /* their operators, coarse[l] of level l < nlevels - 1 */
-  PetscInt           nparticles;
+  KSP                ksp;           /* borrowed */
+  Cloth              cloth;         /* borrowed */
+  ClothGridHierarchy grid;          /* the pattern-grid levels of -pc_type mg, else NULL */
+  Mat               *coarse;        /* their operators, coarse[l] of level l < nlevels - 1 */
+  PetscInt           nparticles;    /* of the cloth: decides the implicit matrix's default storage */
   PetscBool          block_product; /* the finest Galerkin product is taken of the block matrix itself (block_ptap.h) */
   ClothBlockPtAP     block_ptap;    /* that product, while the matrix's nonzero pattern lasts */
   PetscBool          kept;          /* the preconditioner is kept between steps (multilevel types) */
