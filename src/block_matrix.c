@@ -125,8 +125,7 @@ static PetscErrorCode InvertDiagonalBlocksSBAIJ(Mat A, const PetscScalar **value
     const PetscScalar *d = rows.va + BS2 * rows.ia[i];
     PetscScalar       *b = inverse + BS2 * i;
     PetscCheck(rows.ia[i + 1] > rows.ia[i] && rows.ja[rows.ia[i]] == i, PETSC_COMM_SELF, PETSC_ERR_PLIB, "SBAIJ block row %" PetscInt_FMT " does not begin with its diagonal block", i);
-    for (PetscInt c = 0; c < BS; c++)
-      for (PetscInt r = 0; r < BS; r++) b[BS * c + r] = d[BS * PetscMax(r, c) + PetscMin(r, c)];
+    ClothBlockSymmetricFromUpper(d, 1.0, b);
     PetscCall(PetscKernel_A_gets_inverse_A_3(b, 0.0, PETSC_FALSE, NULL));
   }
   PetscCall(ClothBlockRowsRestore(&rows));

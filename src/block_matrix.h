@@ -20,6 +20,14 @@ typedef struct {
   PetscBool       upper;
 } ClothBlockRows;
 
+/* out = scale * the 3x3 block d (column-major) made symmetric from its upper triangle: SBAIJ's diagonal blocks, whose
+   products read only that triangle. */
+static inline void ClothBlockSymmetricFromUpper(const PetscScalar d[9], PetscScalar scale, PetscScalar out[9])
+{
+  for (PetscInt c = 0; c < 3; c++)
+    for (PetscInt r = 0; r < 3; r++) out[3 * c + r] = scale * d[3 * PetscMax(r, c) + PetscMin(r, c)];
+}
+
 /* A is SEQBAIJ, MPIBAIJ, SEQSBAIJ or MPISBAIJ with block size 3 (else an error naming its type). */
 PetscErrorCode ClothBlockRowsGet(Mat A, ClothBlockRows *rows);
 PetscErrorCode ClothBlockRowsRestore(ClothBlockRows *rows);

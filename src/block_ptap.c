@@ -113,8 +113,7 @@ static void FormRow(ClothBlockPtAP ptap, const ClothBlockRows *rows, PetscInt i,
        S = P^T (U - D/2) P. The diagonal block enters S at half weight, made symmetric from its upper triangle. */
     const PetscScalar *d = rows->va + BS2 * k;
     PetscScalar        half[BS2];
-    for (PetscInt c = 0; c < BS; c++)
-      for (PetscInt r = 0; r < BS; r++) half[BS * c + r] = 0.5 * d[BS * PetscMax(r, c) + PetscMin(r, c)];
+    ClothBlockSymmetricFromUpper(d, 0.5, half);
     AddBlockTimesParents(ptap, i, half, nr);
     k++;
   }

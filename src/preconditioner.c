@@ -63,7 +63,6 @@ struct _n_ClothPreconditioner {
   Cloth              cloth;         /* borrowed */
   ClothGridHierarchy grid;          /* the pattern-grid levels of -pc_type mg, else NULL */
   Mat               *coarse;        /* their operators, coarse[l] of level l < nlevels - 1 */
-  PetscInt           nparticles;    /* of the cloth: decides the implicit matrix's default storage */
   PetscBool          block_product; /* the finest Galerkin product is taken of the block matrix itself (block_ptap.h) */
   ClothBlockPtAP     block_ptap;    /* that product, while the matrix's nonzero pattern lasts */
   PetscBool          kept;          /* the preconditioner is kept between steps (multilevel types) */
@@ -156,7 +155,6 @@ PetscErrorCode ClothPreconditionerCreate(KSP ksp, Cloth cloth, ClothPrecondition
   PetscCall(PetscNew(&p));
   p->ksp           = ksp;
   p->cloth         = cloth;
-  p->nparticles    = nparticles;
   p->lag_ratio     = CLOTH_PC_DEFAULT_LAG_RATIO;
   p->rebuild_ratio = 1.5;
   p->lag_max       = CLOTH_PC_DEFAULT_LAG_MAX;
@@ -269,11 +267,13 @@ PetscErrorCode ClothPreconditionerGetMatType(ClothPreconditioner pre, MatType *t
 {
   PC        pc;
   PetscBool takes_block;
+  PetscInt  nparticles;
 
   PetscFunctionBeginUser;
   PetscCall(KSPGetPC(pre->ksp, &pc));
   PetscCall(PetscObjectTypeCompareAny((PetscObject)pc, &takes_block, PCMG, PCPBJACOBI, ""));
-  *type = takes_block && pre->nparticles >= CLOTH_SBAIJ_MIN_PARTICLES ? MATSBAIJ : MATBAIJ;
+  PetscCall(ClothGetSizes(pre->cloth, NULL, &nparticles));
+  *type = takes_block && nparticles >= CLOTH_SBAIJ_MIN_PARTICLES ? MATSBAIJ : MATBAIJ;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
