@@ -19,9 +19,11 @@
 #include <string.h>
 #include <unistd.h>
 #include "checkpoint.h"
+#include "errors.h"
 #include "fileutil.h"
 #include "h5util.h"
 #include "provenance.h"
+#include "watchdog.h"
 
 #define CHECKPOINT_FORMAT_VERSION 2
 #define CHECKPOINT_CHECKSUM_METHOD "per dataset: xor over entries k of splitmix64(bits(value_k) ^ splitmix64(k)), k = bs*particle+component"
@@ -324,6 +326,9 @@ static PetscErrorCode CheckpointCloseAfterFailure(hid_t *file)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* The message of a failed checkpoint write: the temporary file and the reason. */
+#define CHECKPOINT_WRITE_FAILED "Cannot write checkpoint %s: %s; it was deleted, the checkpoints already written are left as they were"
+
 /* Why the first failing rank failed (the message of its first error), on every rank. Collective. */
 static PetscErrorCode CheckpointFailureReason(MPI_Comm comm, PetscErrorCode ierr, char reason[], size_t len)
 {
@@ -349,7 +354,8 @@ static PetscErrorCode CheckpointFailureReason(MPI_Comm comm, PetscErrorCode ierr
    the space check passed, a file size limit, an I/O error) is caught on every rank: the file is deleted and
    the error names it and the reason, so that no half checkpoint is left and the newest complete one stays
    the newest. Collective; the failure is agreed on by all ranks after the write, so a rank whose part
-   succeeded does not wait forever. The file is emptied before it is closed: closing flushes HDF5's metadata
+   succeeded does not wait forever; a rank whose failure left the others inside a collective write (ROMIO on a
+   full disk) removes the file and aborts the run after a few seconds (ClothAgreeOnFailure). The file is emptied before it is closed: closing flushes HDF5's metadata
    into it, and a failed H5Fclose in HDF5 1.10 leaves a dangling identifier that crashes the library's
    clean-up at MPI_Finalize (measured with a file size limit, where emptying does not help: see
    tests/drivers/checkpoint_write_failure.sh). */
@@ -359,11 +365,15 @@ static PetscErrorCode CheckpointWriteTemporary(MPI_Comm comm, const char tmp[], 
   H5E_auto2_t    print_errors;
   void          *print_errors_data;
   PetscMPIInt    rank;
-  int            failed;
+  PetscBool      failed;
   hid_t          file = -1;
-  char           reason[512];
+  char           reason[512], message[CLOTH_PATH_LEN + 1024], what[CLOTH_PATH_LEN + 64];
+  MPI_Comm       agree;
 
   PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_dup(comm, &agree)); /* before the writes: a rank whose write failed may leave the others in one */
+  PetscCall(PetscSNPrintf(what, sizeof(what), "The write of checkpoint %s", tmp));
+  PetscCall(ClothWatchdogArm(what, tmp, CLOTH_EXIT_FILE));
   ClothCallHDF5(H5Eget_auto2(H5E_DEFAULT, &print_errors, &print_errors_data));
   ClothCallHDF5(H5Eset_auto2(H5E_DEFAULT, NULL, NULL));
   PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));
@@ -371,9 +381,17 @@ static PetscErrorCode CheckpointWriteTemporary(MPI_Comm comm, const char tmp[], 
   if (!ierr) ierr = CheckpointWriteFile(comm, file, info, nfields, fields);
   if (!ierr) ierr = ClothH5FileClose(&file);
   PetscCall(PetscPopErrorHandler());
-  failed = ierr != 0;
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &failed, 1, MPI_INT, MPI_LOR, comm));
+  message[0] = 0;
+  if (ierr) {
+    const char *text;
+    char       *specific = NULL;
+    PetscCall(PetscErrorMessage(ierr, &text, &specific));
+    PetscCall(PetscSNPrintf(message, sizeof(message), CHECKPOINT_WRITE_FAILED, tmp, specific && specific[0] ? specific : text));
+  }
+  PetscCall(ClothAgreeOnFailure(agree, ierr ? PETSC_TRUE : PETSC_FALSE, message, CLOTH_EXIT_FILE, tmp, &failed));
+  PetscCallMPI(MPI_Comm_free(&agree));
   if (!failed) {
+    PetscCall(ClothWatchdogDisarm());
     ClothCallHDF5(H5Eset_auto2(H5E_DEFAULT, print_errors, print_errors_data));
     PetscFunctionReturn(PETSC_SUCCESS);
   }
@@ -389,7 +407,8 @@ static PetscErrorCode CheckpointWriteTemporary(MPI_Comm comm, const char tmp[], 
   }
   PetscCallMPI(MPI_Barrier(comm));
   if (rank == 0) (void)remove(tmp);
-  PetscCheck(!failed, comm, PETSC_ERR_FILE_WRITE, "Cannot write checkpoint %s: %s; it was deleted, the checkpoints already written are left as they were", tmp, reason);
+  PetscCall(ClothWatchdogDisarm());
+  PetscCheck(!failed, comm, PETSC_ERR_FILE_WRITE, CHECKPOINT_WRITE_FAILED, tmp, reason);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -5,6 +5,7 @@
 #include <string.h>
 #include <time.h>
 #include "errors.h"
+#include "watchdog.h"
 
 /* How long a failing rank waits for the others to fail too before it aborts them: long enough for ranks
    that raise the same collective error on a loaded machine, short against a run that would hang. */
@@ -43,33 +44,63 @@ static int ClothErrorExitStatus(PetscErrorCode n, const char file[])
   }
 }
 
+/* Polls request for up to CLOTH_ERROR_WAIT_SECONDS; whether it completed. */
+static int ClothErrorWaitBriefly(MPI_Request *request)
+{
+  const double          start = MPI_Wtime();
+  const struct timespec pause = {0, 1000000}; /* 1 ms between polls: a failed rank must not steal the cores */
+  int                   done  = 0;
+
+  while (!done && MPI_Wtime() - start < CLOTH_ERROR_WAIT_SECONDS) {
+    if (MPI_Test(request, &done, MPI_STATUS_IGNORE) != MPI_SUCCESS) break;
+    if (!done) nanosleep(&pause, NULL);
+  }
+  return done;
+}
+
+static void ClothErrorPrint(const char mess[])
+{
+  size_t len = mess ? strlen(mess) : 0;
+
+  while (len > 0 && (mess[len - 1] == '\n' || mess[len - 1] == ' ')) len--;
+  fflush(stdout);
+  fprintf(stderr, "ERROR: %.*s\n", (int)len, mess ? mess : "");
+  fflush(stderr);
+}
+
 /* Ends the run after a user error on this rank; does not return. When every rank has failed (a collective
    error, the usual case) rank 0 alone prints the message and all finalize MPI; when the others have not
    failed within CLOTH_ERROR_WAIT_SECONDS, this rank prints its message and aborts them. */
 static void ClothErrorEnd(int status, const char mess[])
 {
-  MPI_Request           request;
-  int                   all_failed = 0, rank = 0;
-  const double          start = MPI_Wtime();
-  const struct timespec pause = {0, 1000000}; /* 1 ms between polls: a failed rank must not steal the cores */
-  size_t                len   = mess ? strlen(mess) : 0;
+  MPI_Request request;
+  int         all_failed = 0, rank = 0;
 
-  while (len > 0 && (mess[len - 1] == '\n' || mess[len - 1] == ' ')) len--;
+  ClothWatchdogCancel(); /* this ends the run, with its own deadline */
   MPI_Comm_rank(ClothErrorComm, &rank);
-  if (MPI_Ibarrier(ClothErrorComm, &request) == MPI_SUCCESS) {
-    while (!all_failed && MPI_Wtime() - start < CLOTH_ERROR_WAIT_SECONDS) {
-      if (MPI_Test(&request, &all_failed, MPI_STATUS_IGNORE) != MPI_SUCCESS) break;
-      if (!all_failed) nanosleep(&pause, NULL);
-    }
-  }
-  fflush(stdout);
-  if (!all_failed || rank == 0) {
-    fprintf(stderr, "ERROR: %.*s\n", (int)len, mess ? mess : "");
-    fflush(stderr);
-  }
+  if (MPI_Ibarrier(ClothErrorComm, &request) == MPI_SUCCESS) all_failed = ClothErrorWaitBriefly(&request);
+  if (!all_failed || rank == 0) ClothErrorPrint(mess);
   if (!all_failed) MPI_Abort(MPI_COMM_WORLD, status);
   MPI_Finalize();
   exit(status);
+}
+
+PetscErrorCode ClothAgreeOnFailure(MPI_Comm agree, PetscBool failed, const char message[], int status, const char remove_path[], PetscBool *any_failed)
+{
+  MPI_Request request;
+  int         local = failed ? 1 : 0, any = 0;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Iallreduce(&local, &any, 1, MPI_INT, MPI_LOR, agree, &request));
+  if (!failed)
+    PetscCallMPI(MPI_Wait(&request, MPI_STATUS_IGNORE));
+  else if (!ClothErrorWaitBriefly(&request)) {
+    if (remove_path) (void)remove(remove_path);
+    ClothErrorPrint(message);
+    MPI_Abort(MPI_COMM_WORLD, status);
+  }
+  *any_failed = any ? PETSC_TRUE : PETSC_FALSE;
+  PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 static PetscErrorCode ClothErrorHandler(MPI_Comm comm, int line, const char *func, const char *file, PetscErrorCode n, PetscErrorType p, const char *mess, void *ctx)

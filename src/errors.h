@@ -17,3 +17,9 @@ typedef enum {
    on some ranks only still ends the whole run: a rank that waits more than a few seconds for the others
    to fail too aborts them (MPI_Abort). */
 PetscErrorCode ClothErrorHandlerPush(void);
+/* Whether any rank of agree failed, where a rank that failed may have left the others inside a collective call
+   that now waits for it forever (an HDF5 write that failed on one rank only, measured with ROMIO on a full disk).
+   A failed rank waits a few seconds for the others; when they do not come it removes remove_path (if not NULL),
+   prints "ERROR: message" and aborts the run with status (MPI_Abort). agree must be a communicator used for
+   nothing else, duplicated before the collective calls began. Collective on agree. */
+PetscErrorCode ClothAgreeOnFailure(MPI_Comm agree, PetscBool failed, const char message[], int status, const char remove_path[], PetscBool *any_failed);

@@ -165,6 +165,24 @@ PetscErrorCode ClothFileUnlockDirectory(int *fd)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+PetscErrorCode ClothFileOpenText(MPI_Comm comm, const char tmp[], FILE **fp)
+{
+  PetscMPIInt rank;
+  int         err = 0;
+
+  PetscFunctionBeginUser;
+  *fp = NULL;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  if (rank == 0) {
+    errno = 0;
+    *fp   = fopen(tmp, "w");
+    if (!*fp) err = errno ? errno : EIO;
+  }
+  PetscCallMPI(MPI_Bcast(&err, 1, MPI_INT, 0, comm));
+  PetscCheck(!err, comm, PETSC_ERR_FILE_OPEN, "Cannot create %s: %s", tmp, strerror(err));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode ClothFileCommitText(MPI_Comm comm, FILE *fp, const char tmp[], const char path[])
 {
   PetscMPIInt rank;

@@ -20,7 +20,10 @@ PetscErrorCode ClothFileCheckReadable(MPI_Comm comm, const char what[], const ch
 PetscErrorCode ClothFileLockDirectory(MPI_Comm comm, const char dir[], const char holder[], int *fd);
 /* Releases the lock of ClothFileLockDirectory (NULL-safe on fd < 0). Not collective. */
 PetscErrorCode ClothFileUnlockDirectory(int *fd);
-/* Closes a text file that PetscFOpen(comm, tmp, "w") opened (written on rank 0), checking every write (a full
+/* Opens tmp for writing on rank 0 (*fp NULL elsewhere) for PetscFPrintf(comm, fp, ...); errors on every rank,
+   naming tmp and the OS reason, when it cannot (PetscFOpen fails on rank 0 alone, without the reason). */
+PetscErrorCode ClothFileOpenText(MPI_Comm comm, const char tmp[], FILE **fp);
+/* Closes a text file that ClothFileOpenText opened (written on rank 0), checking every write (a full
    disk shows only when the buffer is flushed) and syncing it, then renames tmp onto path. On a write error
    tmp is removed and path left as it was; the error names the file and the OS reason (ENOSPC). */
 PetscErrorCode ClothFileCommitText(MPI_Comm comm, FILE *fp, const char tmp[], const char path[]);

@@ -10,9 +10,9 @@
 
 /* Open MPI's ROMIO component, which opens long names: romio321 in Open MPI 4, romio341 in 5. */
 #if defined(OPEN_MPI) && OMPI_MAJOR_VERSION >= 5
-  #define CLOTH_OMPI_ROMIO "romio341"
+#define CLOTH_OMPI_ROMIO "romio341"
 #else
-  #define CLOTH_OMPI_ROMIO "romio321"
+#define CLOTH_OMPI_ROMIO "romio321"
 #endif
 
 /* Whether this process has opened an HDF5 file: Open MPI opens its MPI-IO framework, and so fixes the components
@@ -44,20 +44,22 @@ static PetscErrorCode H5FileAccessCreate(MPI_Comm comm, hid_t *fapl)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode ClothH5CheckPathLength(MPI_Comm comm, const char path[])
+PetscErrorCode ClothH5PrepareMPIIO(MPI_Comm comm, const char path[])
 {
   PetscFunctionBeginUser;
 #if defined(OPEN_MPI)
   {
     const char *io = getenv("OMPI_MCA_io");
 
+    if (!io && !H5FileOpened) {
+      /* every rank takes the same branch: the environment mpiexec passed and the files opened are alike */
+      PetscCheck(setenv("OMPI_MCA_io", CLOTH_OMPI_ROMIO, 1) == 0, comm, PETSC_ERR_SYS, "Cannot set OMPI_MCA_io: %s", strerror(errno));
+      PetscCall(PetscInfo(NULL, "Open MPI's MPI-IO component %s chosen (before the first file, %s)\n", CLOTH_OMPI_ROMIO, path));
+      PetscFunctionReturn(PETSC_SUCCESS);
+    }
     if (strlen(path) <= CLOTH_OMPIO_PATH_MAX || (io && strstr(io, "romio"))) PetscFunctionReturn(PETSC_SUCCESS);
-    PetscCheck(!io && !H5FileOpened, comm, PETSC_ERR_FILE_OPEN,
-               "HDF5 file %s: the path has %zu characters; Open MPI's MPI-IO component ompio aborts on more than %d, and %s: use a shorter -output_dir (or a relative one), or run with OMPI_MCA_io=%s", path, strlen(path),
-               CLOTH_OMPIO_PATH_MAX, io ? "OMPI_MCA_io chooses it" : "a file was opened before this path was known, so the component is fixed", CLOTH_OMPI_ROMIO);
-    /* every rank takes the same branch: the path, the environment mpiexec passed and the files opened are alike */
-    PetscCheck(setenv("OMPI_MCA_io", CLOTH_OMPI_ROMIO, 1) == 0, comm, PETSC_ERR_SYS, "Cannot set OMPI_MCA_io for the long path %s: %s", path, strerror(errno));
-    PetscCall(PetscInfo(NULL, "HDF5 file %s: %zu characters, more than ompio opens: Open MPI's MPI-IO component %s chosen\n", path, strlen(path), CLOTH_OMPI_ROMIO));
+    PetscCheck(!io && !H5FileOpened, comm, PETSC_ERR_FILE_OPEN, "HDF5 file %s: the path has %zu characters; Open MPI's MPI-IO component ompio aborts on more than %d, and %s: use a shorter -output_dir (or a relative one), or run with OMPI_MCA_io=%s",
+               path, strlen(path), CLOTH_OMPIO_PATH_MAX, io ? "OMPI_MCA_io chooses it" : "a file was opened before this path was known, so the component is fixed", CLOTH_OMPI_ROMIO);
   }
 #endif
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -68,7 +70,7 @@ PetscErrorCode ClothH5FileCreate(MPI_Comm comm, const char path[], hid_t *file)
   hid_t fapl;
 
   PetscFunctionBeginUser;
-  PetscCall(ClothH5CheckPathLength(comm, path));
+  PetscCall(ClothH5PrepareMPIIO(comm, path));
   PetscCall(H5FileAccessCreate(comm, &fapl));
   H5FileOpened = PETSC_TRUE;
   ClothCallHDF5(*file = H5Fcreate(path, H5F_ACC_TRUNC, H5P_DEFAULT, fapl));
@@ -84,12 +86,12 @@ PetscErrorCode ClothH5FileOpen(MPI_Comm comm, const char path[], unsigned flags,
   int         local, all;
 
   PetscFunctionBeginUser;
-  PetscCall(ClothH5CheckPathLength(comm, path));
+  PetscCall(ClothH5PrepareMPIIO(comm, path));
   PetscCall(H5FileAccessCreate(comm, &fapl));
   ClothCallHDF5(H5Eget_auto2(H5E_DEFAULT, &print_errors, &print_errors_data));
   ClothCallHDF5(H5Eset_auto2(H5E_DEFAULT, NULL, NULL));
   H5FileOpened = PETSC_TRUE;
-  *file = H5Fopen(path, flags, fapl);
+  *file        = H5Fopen(path, flags, fapl);
   ClothCallHDF5(H5Eset_auto2(H5E_DEFAULT, print_errors, print_errors_data));
   ClothCallHDF5(H5Pclose(fapl));
   local = *file >= 0;

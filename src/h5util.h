@@ -10,14 +10,16 @@
 #include <petscvec.h>
 #include "util.h"
 
-/* Makes sure that the MPI-IO in use can open path. Open MPI 4's default component, ompio, aborts the whole run
-   ("buffer overflow detected") on a file name of more than 244 characters; its ROMIO component (romio321) has no
-   such limit, and Open MPI chooses among its components at the first file open of the process. So a long path
-   seen before any HDF5 file is opened selects ROMIO (OMPI_MCA_io=romio321 in this process's environment); one
-   seen later, or with OMPI_MCA_io set to another component, is refused naming the path and the way out. The run
-   calls it for its longest names before its first file, and every open calls it again. With another MPI this
-   checks nothing. Collective. */
-PetscErrorCode ClothH5CheckPathLength(MPI_Comm comm, const char path[]);
+/* Chooses the MPI-IO under HDF5 before the process's first file, and makes sure that it can open path. Open MPI
+   chooses among its MPI-IO components at the first file open; clothsim takes ROMIO (OMPI_MCA_io=romio321 in this
+   process's environment) unless OMPI_MCA_io is set. Open MPI 4's default, ompio, hangs every rank when a file
+   opens on some ranks and not on others (measured: its directory deleted during the open, 1 run in 25 with a
+   frame every step), where ROMIO agrees on the failure across the ranks; ompio also aborts the whole run
+   ("buffer overflow detected") on a file name of more than 244 characters. Frames and checkpoints are written
+   as fast with either (docs/performance.md). With OMPI_MCA_io forcing ompio, a longer path is refused naming
+   the path and the way out. The run calls it for its longest names before its first file, and every open
+   calls it again. With another MPI (whose MPI-IO is ROMIO) this does nothing. Collective. */
+PetscErrorCode ClothH5PrepareMPIIO(MPI_Comm comm, const char path[]);
 /* Creates (truncating) an HDF5 file for parallel access. */
 PetscErrorCode ClothH5FileCreate(MPI_Comm comm, const char path[], hid_t *file);
 /* Opens an existing file (flags: H5F_ACC_RDONLY or H5F_ACC_RDWR) without printing HDF5's error stack.

@@ -18,11 +18,14 @@
      /static/<mesh>/triangles     (ntris, 3) int
    NAME.xdmf (Xdmf 3) references these with paths relative to its own folder, so the folder can move.
    The h5 file is opened for each frame and closed again, so that it is complete between frames. */
+#include <errno.h>
 #include <string.h>
 #include "output.h"
 #include "fileutil.h"
 #include "h5util.h"
 #include "provenance.h"
+#include "errors.h"
+#include "watchdog.h"
 
 /* Per-node fields written in every frame besides the positions, as XDMF Attributes of the fabric.
    To add one: add its entry here, its Vec to ClothOutputFrame and that Vec at the same index to the
@@ -114,10 +117,12 @@ PetscErrorCode ClothOutputSeriesExists(ClothOutput out, PetscBool *exists, const
 
 static PetscErrorCode OutputFileOpen(ClothOutput out, hid_t *file)
 {
-  PetscBool opened = PETSC_FALSE;
+  PetscBool opened = PETSC_FALSE, exists = PETSC_TRUE;
 
   PetscFunctionBeginUser;
   PetscCall(ClothH5FileOpen(out->comm, out->h5path, H5F_ACC_RDWR, file, &opened));
+  if (!opened) PetscCall(ClothFileExists(out->comm, out->h5path, &exists));
+  PetscCheck(opened || exists, out->comm, PETSC_ERR_FILE_OPEN, "Cannot open output series %s to append to: %s (was its directory deleted or moved during the run?)", out->h5path, strerror(ENOENT));
   PetscCheck(opened, out->comm, PETSC_ERR_FILE_READ, "Output series %s cannot be opened to append to (truncated, or not HDF5): move it away to start a new series", out->h5path);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -264,7 +269,7 @@ static PetscErrorCode OutputWriteXdmf(ClothOutput out)
 
   PetscFunctionBeginUser;
   PetscCall(PetscSNPrintf(tmp, sizeof(tmp), "%s.tmp", out->xdmfpath));
-  PetscCall(PetscFOpen(out->comm, tmp, "w", &fp));
+  PetscCall(ClothFileOpenText(out->comm, tmp, &fp));
   PetscCall(PetscFPrintf(out->comm, fp, "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n<Xdmf Version=\"3.0\" xmlns:xi=\"http://www.w3.org/2001/XInclude\">\n  <Domain>\n"));
   if (out->run_id) PetscCall(PetscFPrintf(out->comm, fp, "    <!-- run_id %016llx: the run that wrote this series (attribute run_id of its .h5 and checkpoints) -->\n", (unsigned long long)out->run_id));
   PetscCall(PetscFPrintf(out->comm, fp, "    <Grid Name=\"%s\" GridType=\"Collection\" CollectionType=\"Temporal\">\n", out->name));
@@ -370,11 +375,13 @@ static PetscErrorCode OutputCheckFrameSpace(ClothOutput out, PetscInt64 step)
 static PetscErrorCode OutputWriteFrameFields(ClothOutput out, PetscInt64 step, PetscReal time, Vec position, const Vec fields[], const ClothOutputFrame *content)
 {
   hid_t file, frames, frame;
-  char  group[CLOTH_NAME_LEN];
+  char  group[CLOTH_NAME_LEN], what[CLOTH_PATH_LEN + 64];
 
   PetscFunctionBeginUser;
   PetscCall(OutputCheckFrameSpace(out, step));
   PetscCall(OutputFrameGroupName(step, group, sizeof(group)));
+  PetscCall(PetscSNPrintf(what, sizeof(what), "The frame of step %" PetscInt64_FMT " into %s", step, out->h5path));
+  PetscCall(ClothWatchdogArm(what, NULL, CLOTH_EXIT_FILE));
   PetscCall(OutputFileOpen(out, &file));
   ClothCallHDF5(frames = H5Gopen2(file, "frames", H5P_DEFAULT));
   PetscCall(ClothH5LinkDeleteIfExists(frames, group));
@@ -387,6 +394,7 @@ static PetscErrorCode OutputWriteFrameFields(ClothOutput out, PetscInt64 step, P
   ClothCallHDF5(H5Gclose(frame));
   ClothCallHDF5(H5Gclose(frames));
   PetscCall(ClothH5FileClose(&file));
+  PetscCall(ClothWatchdogDisarm());
   PetscCall(OutputRecordFrame(out, step, time));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

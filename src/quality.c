@@ -188,7 +188,7 @@ PetscErrorCode ClothQualityWrite(Cloth cloth, ClothCollision collision, ClothSew
   PetscCall(ClothComputeEnergy(cloth, x, v, &energy));
   PetscCallMPI(MPI_Comm_size(comm, &size));
   PetscCall(PetscSNPrintf(tmp, sizeof(tmp), "%s.tmp", path)); /* renamed when complete: a full disk leaves no half file */
-  PetscCall(PetscFOpen(comm, tmp, "w", &fp));
+  PetscCall(ClothFileOpenText(comm, tmp, &fp));
   PetscCall(PetscFPrintf(comm, fp, "{\n  \"max_seam_gap_m\": %.6e,\n  \"sewn_pairs\": %" PetscInt_FMT ",\n  \"seam_pairs\": %" PetscInt_FMT ",\n", (double)gap, sewn, total));
   PetscCall(PetscFPrintf(comm, fp, "  \"particles_inside_body\": %" PetscInt_FMT ",\n  \"max_link_strain\": %.6e,\n  \"kinetic_energy_j\": %.6e,\n", inside, (double)strain, (double)energy.kinetic));
   PetscCall(PetscFPrintf(comm, fp, "  \"wall_s\": %.3f,\n  \"ranks\": %d,\n", (double)wall_seconds, (int)size));

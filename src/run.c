@@ -14,6 +14,7 @@
 #include "options.h"
 #include "fileutil.h"
 #include "h5util.h"
+#include "watchdog.h"
 
 struct _n_ClothRun {
   MPI_Comm         comm;
@@ -142,7 +143,8 @@ static PetscErrorCode ClothRunCheckMemory(ClothRun run)
 
 PetscErrorCode ClothRunSetFromOptions(ClothRun run)
 {
-  PetscInt  grid = 0;
+  PetscReal io_timeout = CLOTH_IO_TIMEOUT_DEFAULT;
+  PetscInt  grid       = 0;
   PetscBool set_steps, set_tfinal, set_grid;
 
   PetscFunctionBeginUser;
@@ -166,11 +168,14 @@ PetscErrorCode ClothRunSetFromOptions(ClothRun run)
   PetscCall(PetscOptionsBool("-restart_any_scene", "Continue from a checkpoint of another scene (one edited on purpose) with the same particle count", "ClothRunSetUp", run->restart_any_scene, &run->restart_any_scene, NULL));
   PetscCall(PetscOptionsReal("-progress_seconds", "Wall seconds between progress lines (0: every step)", "ClothRunSolve", run->progress_seconds, &run->progress_seconds, NULL));
   PetscCall(PetscOptionsReal("-gravity_ramp", "Seconds over which gravity rises linearly from 0 to its full value (0: full from the start)", "ClothRunSolve", run->gravity_ramp, &run->gravity_ramp, NULL));
+  PetscCall(PetscOptionsReal("-io_timeout", "Seconds a frame or checkpoint write may take before the run is stopped (exit status 3) as hung (0: no limit)", "ClothWatchdogArm", io_timeout, &io_timeout, NULL));
   PetscCall(PetscOptionsBool("-monitor_energy", "Print kinetic, gravitational and elastic energy with every frame", "ClothRunSolve", run->monitor_energy, &run->monitor_energy, NULL));
   PetscOptionsEnd();
   PetscCall(ClothOptionsCheckReal(run->comm, "-dt", run->dt, 0, PETSC_TRUE, PETSC_MAX_REAL, "s"));
   PetscCall(ClothOptionsCheckReal(run->comm, "-gravity_ramp", run->gravity_ramp, 0, PETSC_FALSE, PETSC_MAX_REAL, "s"));
   PetscCall(ClothOptionsCheckReal(run->comm, "-progress_seconds", run->progress_seconds, 0, PETSC_FALSE, PETSC_MAX_REAL, "s"));
+  PetscCall(ClothOptionsCheckReal(run->comm, "-io_timeout", io_timeout, 0, PETSC_FALSE, 1e8, "s"));
+  PetscCall(ClothWatchdogSetTimeout(io_timeout));
   PetscCheck(!(run->gravity_ramp > 0 && run->scene->nseams > 0), run->comm, PETSC_ERR_USER_INPUT, "-gravity_ramp cannot be used with seams: the sewing phases switch gravity themselves");
   PetscCall(ClothOptionsCheckInt(run->comm, "-steps", run->steps, 0, PETSC_MAX_INT));
   PetscCall(ClothOptionsCheckInt(run->comm, "-output_every", run->output_every, 0, PETSC_MAX_INT));
@@ -410,11 +415,11 @@ static PetscErrorCode ClothRunClaimOutput(ClothRun run)
   PetscCall(ClothFileLockDirectory(run->comm, run->output_dir, holder, &run->output_lock));
   /* the longest names the run will open, checked before its first file (which fixes Open MPI's MPI-IO component,
      h5util.h) rather than at its first checkpoint, after the computing */
-  if (run->restart[0]) PetscCall(ClothH5CheckPathLength(run->comm, run->restart));
+  if (run->restart[0]) PetscCall(ClothH5PrepareMPIIO(run->comm, run->restart));
   PetscCall(PetscSNPrintf(path, sizeof(path), "%s/.checkpoint_%06d.h5.tmp", run->output_dir, 0));
-  PetscCall(ClothH5CheckPathLength(run->comm, path));
+  PetscCall(ClothH5PrepareMPIIO(run->comm, path));
   PetscCall(PetscSNPrintf(path, sizeof(path), "%s/%s.h5", run->output_dir, run->scene->name));
-  PetscCall(ClothH5CheckPathLength(run->comm, path));
+  PetscCall(ClothH5PrepareMPIIO(run->comm, path));
   PetscCall(ClothRunNewId(run));
   if (run->restart[0]) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(PetscSNPrintf(path, sizeof(path), "%s/%s.h5", run->output_dir, run->scene->name));

@@ -1,6 +1,7 @@
 # I/O: checkpoints (src/checkpoint.c) and the XDMF + HDF5 output series (src/output.c).
 clothsim_add_test_program(test_checkpoint test_checkpoint.c)
 clothsim_add_test_program(test_output test_output.c)
+clothsim_add_test_program(test_h5_open_agreement test_h5_open_agreement.c)
 foreach(ranks 1 2 3)
   # Round trip (also re-read on one rank), pruning, and refusal of damaged or foreign checkpoints.
   clothsim_add_mpi_test(io_checkpoint_np${ranks} ${ranks} $<TARGET_FILE:test_checkpoint>
@@ -10,6 +11,14 @@ foreach(ranks 1 2 3)
                            ${MPIEXEC_EXECUTABLE} ${ranks} $<TARGET_FILE:test_output>
                            ${CMAKE_CURRENT_BINARY_DIR}/io_output_np${ranks})
   set_tests_properties(io_output_xdmf_np${ranks} PROPERTIES PROCESSORS ${ranks})
+endforeach()
+
+# An HDF5 open or create that fails on some ranks only (a file deleted between their opens) fails on all, without a
+# hang (tests/programs/test_h5_open_agreement.c; Open MPI's ompio hung, src/h5util.h): a hang meets the timeout.
+foreach(ranks 2 3)
+  clothsim_add_mpi_test(io_open_agreement_np${ranks} ${ranks} $<TARGET_FILE:test_h5_open_agreement>
+                        -dir ${CMAKE_CURRENT_BINARY_DIR}/io_open_agreement_np${ranks})
+  set_tests_properties(io_open_agreement_np${ranks} PROPERTIES TIMEOUT 60)
 endforeach()
 
 # cmake --install into a temporary prefix; the installed jobs/main_job.sbatch runs the main job's scene (the dress on

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Long output paths (issue 24, item 2): Open MPI 4's default MPI-IO component, ompio, aborts the whole run ("buffer
 # overflow detected") on a file name of more than 244 characters, which used to happen at the final checkpoint,
-# after all the computing. clothsim now chooses Open MPI's ROMIO component (romio321) for such paths before its
-# first file (src/h5util.h). On 1 and 2 ranks, a run into a 256-character file name must finish, write a series
+# after all the computing. clothsim now chooses Open MPI's ROMIO component (romio321) before its first file
+# (src/h5util.h). On 1 and 2 ranks, a run into a 256-character file name must finish, write a series
 # and checkpoints whose positions are bit for bit those of the same run into a short directory, and continue from
 # its checkpoint with -restart (a long path read too). A user who forces ompio (OMPI_MCA_io=ompio) gets a
 # refusal before the first step, exit status 3, naming the path and the way out.

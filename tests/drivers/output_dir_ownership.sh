@@ -53,7 +53,8 @@ echo "the lock went with its holder: -restart into the directory ran"
 
 # a directory deleted during the run: the state is saved before the run stops. The deletion may also land inside
 # a frame's write (a window of a few per cent of the run's time here, frames every 10 steps of a 33 x 33 sheet);
-# the run then stops with exit 3 naming the file it could not write, without the saved state.
+# the run then stops with exit 3 naming the file it could not write, without the saved state. (A deletion inside a
+# file's open, between the ranks' opens, hung both ranks with Open MPI's ompio: clothsim uses ROMIO, src/h5util.h.)
 mpiexec -n 2 "$CLOTHSIM" "${sheet[@]}" -grid 33 -steps 100000000 -output_every 10 -progress_seconds 0 -output_dir "$out/deleted" > "$out/deleted.log" 2>&1 &
 pid=$!
 for _ in $(seq 1 600); do grep -q "^step *20/" "$out/deleted.log" && break; sleep 0.1; done

@@ -5,7 +5,8 @@
    library makes that happen: writes into temporary checkpoint files (".checkpoint_*.tmp") share a budget of
    CLOTH_FAULT_DISK_BYTES bytes in each process; a write beyond it fails with ENOSPC, as a full disk does.
    Truncating such a file gives its bytes back (the budget is then whole again), as it frees a real file's
-   blocks. Other files are untouched. */
+   blocks. Other files are untouched. With CLOTH_FAULT_DISK_STALL set, a write beyond the budget never returns
+   instead, as on a hung file system. */
 #define _GNU_SOURCE
 #include <dlfcn.h>
 #include <errno.h>
@@ -44,6 +45,8 @@ static int Reserve(int fd, size_t n)
 
   if (!budget || !FdIsCheckpointTemporary(fd)) return 1;
   if (used + (long long)n > atoll(budget)) {
+    if (getenv("CLOTH_FAULT_DISK_STALL"))
+      for (;;) pause(); /* a hung file system (a lost NFS server): the write never returns */
     errno = ENOSPC;
     return 0;
   }
