@@ -458,7 +458,7 @@ PetscErrorCode ClothIntegratorViewSystem(ClothIntegrator integ, PetscViewer view
 PetscErrorCode ClothIntegratorRequestPreconditionerRebuild(ClothIntegrator integ)
 {
   PetscFunctionBeginUser;
-  if (integ->pre) PetscCall(ClothPreconditionerRequestRebuild(integ->pre));
+  if (integ->pre) PetscCall(ClothPreconditionerRestart(integ->pre));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

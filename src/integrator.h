@@ -35,7 +35,8 @@ PetscErrorCode ClothIntegratorGetWarmStart(ClothIntegrator integ, Vec *dv);
    explicit integrators); for a multilevel preconditioner how often it was rebuilt, refreshed or kept; with
    -integrator_view the whole ClothIntegratorView. */
 PetscErrorCode ClothIntegratorViewSystem(ClothIntegrator integ, PetscViewer viewer);
-/* The next implicit step rebuilds its preconditioner from scratch, as a run restarted at this point would: called
+/* The next implicit step rebuilds its preconditioner from scratch and forgets its lagging history, as a run
+   restarted at this point would: called
    after every checkpoint, so that a restart continues bit for bit. */
 PetscErrorCode ClothIntegratorRequestPreconditionerRebuild(ClothIntegrator integ);
 /* Why the last failed sub-step failed (the Krylov and preconditioner reasons, or a non-finite state), for messages. */

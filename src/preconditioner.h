@@ -18,7 +18,9 @@
    0 (every step refreshes), 1.15, 1.2, 1.3, 1.6 and 2.5: docs/performance.md), and after at most
    -implicit_pc_lag_max lagged solves in a row (default 2); a refresh is followed by a rebuild when its solve took more than
    -implicit_pc_rebuild_ratio times the iterations after the last rebuild (the sheet has moved so far that the
-   aggregates no longer fit). A new matrix (new nonzero pattern) and
+   aggregates no longer fit). A lagged solve that takes more than -implicit_pc_lag_excess iterations beyond the last
+   refreshed one stops lagging for -implicit_pc_lag_pause solves, a pause doubled for each such lag in a row (at most
+   -implicit_pc_lag_backoff times). A new matrix (new nonzero pattern) and
    ClothPreconditionerRequestRebuild force a rebuild, a change of the step size (a halved step) a refresh.
    GAMG needs a scalar (AIJ) matrix; when the implicit matrix is BAIJ or SBAIJ, GAMG is built from an AIJ copy made
    only when it is refreshed or rebuilt, while the Krylov method and the finest smoother stream the block matrix
@@ -59,6 +61,9 @@ PetscErrorCode ClothPreconditionerSolved(ClothPreconditioner pre, PetscInt its);
 /* The next Prepare rebuilds everything (after a failed solve; at a checkpoint, so that a restart from it sees the
    same preconditioner as the run that continued, bit for bit). */
 PetscErrorCode ClothPreconditionerRequestRebuild(ClothPreconditioner pre);
+/* Forgets the lagging history (the pause after costly lags, its backoff) and requests a rebuild: the state of a run
+   restarted from a checkpoint written now, so that the run that goes on and the restarted one take the same steps. */
+PetscErrorCode ClothPreconditionerRestart(ClothPreconditioner pre);
 /* Whether the preconditioner is kept between steps (a multilevel one) at all. */
 PetscErrorCode ClothPreconditionerIsKept(ClothPreconditioner pre, PetscBool *kept);
 PetscErrorCode ClothPreconditionerView(ClothPreconditioner pre, PetscViewer viewer);

@@ -31,6 +31,8 @@ robustness_case(grid_memory 2 2 ${sheet} "the grids ('sheet' 26000 x 26000) give
 robustness_case(steps_beyond_int 2 1 ${sheet} "option -steps 3000000000: expected an integer >= 0 and <= 2147483647" -- -steps 3000000000)
 robustness_case(steps_wraps_positive 2 2 ${sheet} "option -steps 5000000000: expected an integer >= 0 and <= 2147483647" -- -steps 5000000000)
 robustness_case(checkpoint_every_beyond_int 2 1 ${sheet} "option -checkpoint_every 4294967297: expected an integer >= 0 and <= 2147483647" -- -checkpoint_every 4294967297)
+robustness_case(io_timeout_negative 2 1 ${sheet} "option -io_timeout -1: expected a finite number >= 0 and <= 1e+08 s" -- -io_timeout -1)
+robustness_case(lag_backoff_too_large 2 1 ${sheet} "-implicit_pc_lag_backoff 21: expected 0 to 20 doublings" -- -grid 129 -implicit_pc_lag_backoff 21)
 robustness_case(max_halvings_negative 2 1 ${sheet} "option -integrator_max_halvings -1: expected an integer >= 0 and <= 30" -- -integrator_max_halvings -1)
 robustness_case(grid_too_small 2 1 ${sheet} "option -grid 1: expected an integer >= 2" -- -grid 1)
 robustness_case(scene_dev_zero 2 1 /dev/zero "scene /dev/zero: the file is larger than 64 MB: expected a YAML scene file")
