@@ -42,6 +42,7 @@ struct _n_ClothRun {
   char      restart[CLOTH_PATH_LEN];
   PetscReal progress_seconds;
   PetscBool monitor_energy;
+  PetscBool help;         /* -help: set up (listing every option), then stop without claiming the output or stepping */
   PetscReal gravity_ramp; /* s over which gravity rises from 0 to full (0: full from the start) */
 
   Vec      natural_position, natural_velocity, natural_dv; /* natural_dv: the implicit warm start */
@@ -171,6 +172,7 @@ PetscErrorCode ClothRunSetFromOptions(ClothRun run)
   PetscCall(PetscOptionsReal("-io_timeout", "Seconds a frame or checkpoint write may take before the run is stopped (exit status 3) as hung (0: no limit)", "ClothWatchdogArm", io_timeout, &io_timeout, NULL));
   PetscCall(PetscOptionsBool("-monitor_energy", "Print kinetic, gravitational and elastic energy with every frame", "ClothRunSolve", run->monitor_energy, &run->monitor_energy, NULL));
   PetscOptionsEnd();
+  PetscCall(PetscOptionsHasHelp(NULL, &run->help));
   PetscCall(ClothOptionsCheckReal(run->comm, "-dt", run->dt, 0, PETSC_TRUE, PETSC_MAX_REAL, "s"));
   PetscCall(ClothOptionsCheckReal(run->comm, "-gravity_ramp", run->gravity_ramp, 0, PETSC_FALSE, PETSC_MAX_REAL, "s"));
   PetscCall(ClothOptionsCheckReal(run->comm, "-progress_seconds", run->progress_seconds, 0, PETSC_FALSE, PETSC_MAX_REAL, "s"));
@@ -456,7 +458,7 @@ PetscErrorCode ClothRunSetUp(ClothRun run)
   PetscFunctionBeginUser;
   PetscCall(PetscLogStagePush(ClothLog.stage_setup));
   PetscCall(ClothLogPhaseBegin(CLOTH_SETUP_OUTPUT));
-  PetscCall(ClothRunClaimOutput(run));
+  if (!run->help) PetscCall(ClothRunClaimOutput(run));
   PetscCall(ClothLogPhaseEnd(CLOTH_SETUP_OUTPUT));
   PetscCall(ClothSetUp(run->cloth));
   PetscCall(ClothRunReleaseModelInteractions(run));
@@ -505,8 +507,8 @@ PetscErrorCode ClothRunSetUp(ClothRun run)
   if (run->restart[0]) PetscCall(ClothRunRestoreWarmStart(run));
   PetscCall(ClothRunResolveSteps(run));
   PetscCall(ClothLogPhaseBegin(CLOTH_SETUP_OUTPUT));
-  PetscCall(ClothRunOpenOutput(run));
-  PetscCall(ClothRunAddBodyMeshes(run));
+  if (!run->help) PetscCall(ClothRunOpenOutput(run));
+  if (!run->help) PetscCall(ClothRunAddBodyMeshes(run));
   PetscCall(ClothLogPhaseEnd(CLOTH_SETUP_OUTPUT));
   PetscCall(PetscLogStagePop());
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -686,6 +688,10 @@ PetscErrorCode ClothRunSolve(ClothRun run)
   const char    *failure = "";
 
   PetscFunctionBeginUser;
+  if (run->help) {
+    PetscCall(PetscPrintf(run->comm, "-help: the options of this run are listed above (the multigrid levels' own -mg_levels_* options appear at the first solve); nothing was run or written\n"));
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
   PetscCall(PetscPrintf(run->comm, "Running %s: %" PetscInt_FMT " steps of %g s from step %" PetscInt_FMT "; output in %s\n", run->scene->name, run->steps, (double)run->dt, run->step, run->output_dir));
   PetscCall(ClothLogPhaseBegin(CLOTH_SETUP_OUTPUT));
   PetscCall(ClothRunWriteFirstFrame(run));
