@@ -329,12 +329,22 @@ static PetscErrorCode CheckpointCloseAfterFailure(hid_t *file)
 /* The message of a failed checkpoint write: the temporary file and the reason. */
 #define CHECKPOINT_WRITE_FAILED "Cannot write checkpoint %s: %s; it was deleted, the checkpoints already written are left as they were"
 
+/* The message of this rank's first error ierr. */
+static PetscErrorCode CheckpointLocalReason(PetscErrorCode ierr, char reason[], size_t len)
+{
+  const char *text;
+  char       *specific = NULL;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscErrorMessage(ierr, &text, &specific));
+  PetscCall(PetscStrncpy(reason, specific && specific[0] ? specific : text, len));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 /* Why the first failing rank failed (the message of its first error), on every rank. Collective. */
 static PetscErrorCode CheckpointFailureReason(MPI_Comm comm, PetscErrorCode ierr, char reason[], size_t len)
 {
   PetscMPIInt rank, size, first;
-  const char *text;
-  char       *specific = NULL;
 
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
@@ -342,10 +352,7 @@ static PetscErrorCode CheckpointFailureReason(MPI_Comm comm, PetscErrorCode ierr
   first = ierr ? rank : size;
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &first, 1, MPI_INT, MPI_MIN, comm));
   reason[0] = 0;
-  if (rank == first) {
-    PetscCall(PetscErrorMessage(ierr, &text, &specific));
-    PetscCall(PetscStrncpy(reason, specific && specific[0] ? specific : text, len));
-  }
+  if (rank == first) PetscCall(CheckpointLocalReason(ierr, reason, len));
   PetscCallMPI(MPI_Bcast(reason, (PetscMPIInt)len, MPI_CHAR, first, comm));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -355,8 +362,9 @@ static PetscErrorCode CheckpointFailureReason(MPI_Comm comm, PetscErrorCode ierr
    the error names it and the reason, so that no half checkpoint is left and the newest complete one stays
    the newest. Collective; the failure is agreed on by all ranks after the write, so a rank whose part
    succeeded does not wait forever; a rank whose failure left the others inside a collective write (ROMIO on a
-   full disk) removes the file and aborts the run after a few seconds (ClothAgreeOnFailure). The file is emptied before it is closed: closing flushes HDF5's metadata
-   into it, and a failed H5Fclose in HDF5 1.10 leaves a dangling identifier that crashes the library's
+   full disk) removes the file and aborts the run after a few seconds (ClothAgreeOnFailure), and a write that hangs
+   inside HDF5 meets -io_timeout (watchdog.h). The file is emptied before it is closed: closing flushes HDF5's
+   metadata into it, and a failed H5Fclose in HDF5 1.10 leaves a dangling identifier that crashes the library's
    clean-up at MPI_Finalize (measured with a file size limit, where emptying does not help: see
    tests/drivers/checkpoint_write_failure.sh). */
 static PetscErrorCode CheckpointWriteTemporary(MPI_Comm comm, const char tmp[], const ClothCheckpointInfo *info, PetscInt nfields, const ClothCheckpointField fields[])
@@ -383,10 +391,8 @@ static PetscErrorCode CheckpointWriteTemporary(MPI_Comm comm, const char tmp[], 
   PetscCall(PetscPopErrorHandler());
   message[0] = 0;
   if (ierr) {
-    const char *text;
-    char       *specific = NULL;
-    PetscCall(PetscErrorMessage(ierr, &text, &specific));
-    PetscCall(PetscSNPrintf(message, sizeof(message), CHECKPOINT_WRITE_FAILED, tmp, specific && specific[0] ? specific : text));
+    PetscCall(CheckpointLocalReason(ierr, reason, sizeof(reason)));
+    PetscCall(PetscSNPrintf(message, sizeof(message), CHECKPOINT_WRITE_FAILED, tmp, reason));
   }
   PetscCall(ClothAgreeOnFailure(agree, ierr ? PETSC_TRUE : PETSC_FALSE, message, CLOTH_EXIT_FILE, tmp, &failed));
   PetscCallMPI(MPI_Comm_free(&agree));

@@ -15,11 +15,6 @@
 #define CLOTH_OMPI_ROMIO "romio321"
 #endif
 
-/* Whether this process has opened an HDF5 file: Open MPI opens its MPI-IO framework, and so fixes the components
-   it chooses from, at the first MPI_File_open (measured with Open MPI 4.1.4: OMPI_MCA_io set after MPI_Init but
-   before the first open takes effect, set after it does not). */
-static PetscBool H5FileOpened = PETSC_FALSE;
-
 #if defined(PETSC_USE_COMPLEX) || !defined(PETSC_USE_REAL_DOUBLE)
 #error "clothsim writes PetscScalar as float64: it needs a real, double precision PETSc build"
 #endif
@@ -51,15 +46,18 @@ PetscErrorCode ClothH5PrepareMPIIO(MPI_Comm comm, const char path[])
   {
     const char *io = getenv("OMPI_MCA_io");
 
-    if (!io && !H5FileOpened) {
-      /* every rank takes the same branch: the environment mpiexec passed and the files opened are alike */
+    if (!io) {
+      /* Open MPI fixes its MPI-IO component at the first MPI_File_open (measured with Open MPI 4.1.4: OMPI_MCA_io set
+         after MPI_Init but before the first open takes effect, set after it does not); every open comes here first,
+         so the first one sets it. Every rank takes the same branch: the environment mpiexec passed is alike. */
       PetscCheck(setenv("OMPI_MCA_io", CLOTH_OMPI_ROMIO, 1) == 0, comm, PETSC_ERR_SYS, "Cannot set OMPI_MCA_io: %s", strerror(errno));
       PetscCall(PetscInfo(NULL, "Open MPI's MPI-IO component %s chosen (before the first file, %s)\n", CLOTH_OMPI_ROMIO, path));
       PetscFunctionReturn(PETSC_SUCCESS);
     }
-    if (strlen(path) <= CLOTH_OMPIO_PATH_MAX || (io && strstr(io, "romio"))) PetscFunctionReturn(PETSC_SUCCESS);
-    PetscCheck(!io && !H5FileOpened, comm, PETSC_ERR_FILE_OPEN, "HDF5 file %s: the path has %zu characters; Open MPI's MPI-IO component ompio aborts on more than %d, and %s: use a shorter -output_dir (or a relative one), or run with OMPI_MCA_io=%s",
-               path, strlen(path), CLOTH_OMPIO_PATH_MAX, io ? "OMPI_MCA_io chooses it" : "a file was opened before this path was known, so the component is fixed", CLOTH_OMPI_ROMIO);
+    /* here OMPI_MCA_io is set: by the first call (romio) or by the user */
+    PetscCheck(strlen(path) <= CLOTH_OMPIO_PATH_MAX || strstr(io, "romio"), comm, PETSC_ERR_FILE_OPEN,
+               "HDF5 file %s: the path has %zu characters; Open MPI's MPI-IO component ompio aborts on more than %d, and OMPI_MCA_io chooses it: use a shorter -output_dir (or a relative one), or run with OMPI_MCA_io=%s", path, strlen(path),
+               CLOTH_OMPIO_PATH_MAX, CLOTH_OMPI_ROMIO);
   }
 #endif
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -72,7 +70,6 @@ PetscErrorCode ClothH5FileCreate(MPI_Comm comm, const char path[], hid_t *file)
   PetscFunctionBeginUser;
   PetscCall(ClothH5PrepareMPIIO(comm, path));
   PetscCall(H5FileAccessCreate(comm, &fapl));
-  H5FileOpened = PETSC_TRUE;
   ClothCallHDF5(*file = H5Fcreate(path, H5F_ACC_TRUNC, H5P_DEFAULT, fapl));
   ClothCallHDF5(H5Pclose(fapl));
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -90,8 +87,7 @@ PetscErrorCode ClothH5FileOpen(MPI_Comm comm, const char path[], unsigned flags,
   PetscCall(H5FileAccessCreate(comm, &fapl));
   ClothCallHDF5(H5Eget_auto2(H5E_DEFAULT, &print_errors, &print_errors_data));
   ClothCallHDF5(H5Eset_auto2(H5E_DEFAULT, NULL, NULL));
-  H5FileOpened = PETSC_TRUE;
-  *file        = H5Fopen(path, flags, fapl);
+  *file = H5Fopen(path, flags, fapl);
   ClothCallHDF5(H5Eset_auto2(H5E_DEFAULT, print_errors, print_errors_data));
   ClothCallHDF5(H5Pclose(fapl));
   local = *file >= 0;

@@ -517,7 +517,7 @@ PetscErrorCode ClothPreconditionerRequestRebuild(ClothPreconditioner pre)
 PetscErrorCode ClothPreconditionerRestart(ClothPreconditioner pre)
 {
   PetscFunctionBeginUser;
-  pre->pending     = CLOTH_PC_REBUILD;
+  PetscCall(ClothPreconditionerRequestRebuild(pre));
   pre->paused      = 0;
   pre->failed_lags = 0;
   PetscFunctionReturn(PETSC_SUCCESS);
