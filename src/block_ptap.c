@@ -16,9 +16,10 @@ struct _n_ClothBlockPtAP {
   PetscInt      *remote;         /* sorted */
   Mat            L;              /* SEQBAIJ: the sums of this rank, rows cstart..cend-1 then remote[], global columns */
   Mat            C;
-  PetscBool      upper; /* A is SBAIJ: L holds S of FormRow and C = S + S^T */
-  PetscScalar   *tval;  /* room for one row of L transposed (upper) */
-  PetscInt       rmax;  /* room in rcol, rval: R = A(i,:) P of one fine row */
+  PetscBool      upper;  /* A is SBAIJ: L holds S of FormRow and C = S + S^T */
+  PetscBool      cupper; /* C is SBAIJ: it keeps the blocks added on and above its diagonal */
+  PetscScalar   *tval;   /* room for one block row of L, laid out by rows */
+  PetscInt       rmax;   /* room in rcol, rval: R = A(i,:) P of one fine row */
   PetscInt      *rcol;
   PetscScalar   *rval;
   PetscLogDouble flops; /* of the current product, for -log_view */
@@ -211,9 +212,11 @@ static PetscErrorCode SumsPattern(ClothBlockPtAP ptap, const ClothBlockRows *row
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* Adds L's rows into M (C, or its preallocator with lv NULL: zeros) as rows of C and, for SBAIJ, each also transposed
-   as a block column (the S^T of FormRow): its blocks B_k at coarse columns J_k go to rows J_k, column crow, as B_k^T,
-   laid out for C's column-major input. */
+/* Adds L's rows into M (C, or its preallocator with lv NULL: zeros) as rows of C and, for SBAIJ A, each also transposed
+   as a block column (the S^T of FormRow): its blocks B_k at coarse columns J_k go to rows J_k, column crow, as B_k^T.
+   Input row-oriented: a block row of L's column-major blocks is transposed into tval; the block column of the B_k^T,
+   laid out by rows, is L's blocks as they are. (PETSc 3.18's column-oriented input of blocks for rows owned by another
+   rank of an MPIBAIJ or MPISBAIJ matrix reads the wrong entries: MatStashValuesColBlocked_Private.) */
 static PetscErrorCode AddSums(ClothBlockPtAP ptap, Mat M, PetscInt nrows, const PetscInt li[], const PetscInt lj[], const PetscScalar lv[], InsertMode mode)
 {
   PetscFunctionBeginUser;
@@ -222,19 +225,18 @@ static PetscErrorCode AddSums(ClothBlockPtAP ptap, Mat M, PetscInt nrows, const 
     const PetscInt     n    = li[r + 1] - li[r];
     const PetscScalar *row  = lv ? lv + BS2 * li[r] : ptap->tval;
     if (n == 0) continue;
-    PetscCall(MatSetValuesBlocked(M, 1, &crow, n, lj + li[r], row, mode));
-    if (!ptap->upper) continue;
     for (PetscInt k = 0; lv && k < n; k++)
       for (PetscInt a = 0; a < BS; a++)
-        for (PetscInt b = 0; b < BS; b++) ptap->tval[b * BS * n + BS * k + a] = row[BS2 * k + BS * a + b];
-    PetscCall(MatSetValuesBlocked(M, n, lj + li[r], 1, &crow, ptap->tval, mode));
+        for (PetscInt b = 0; b < BS; b++) ptap->tval[a * BS * n + BS * k + b] = row[BS2 * k + BS * b + a];
+    PetscCall(MatSetValuesBlocked(M, 1, &crow, n, lj + li[r], ptap->tval, mode));
+    if (ptap->upper) PetscCall(MatSetValuesBlocked(M, n, lj + li[r], 1, &crow, row, mode));
   }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 /* The nonzero patterns of L (this rank's sums) and C (every rank's rows added, through a MATPREALLOCATOR that takes
    L's rows once each: coarse-level sized work). */
-static PetscErrorCode PreallocateProducts(ClothBlockPtAP ptap, const ClothBlockRows *rows, MPI_Comm comm, PetscInt ncoarse)
+static PetscErrorCode PreallocateProducts(ClothBlockPtAP ptap, const ClothBlockRows *rows, MPI_Comm comm, PetscInt ncoarse, MatType ctype)
 {
   Mat      Cpre;
   PetscInt nrows = ptap->cend - ptap->cstart + ptap->nremote, *li, *lj, longest = 1;
@@ -259,16 +261,19 @@ static PetscErrorCode PreallocateProducts(ClothBlockPtAP ptap, const ClothBlockR
   PetscCall(MatAssemblyEnd(Cpre, MAT_FINAL_ASSEMBLY));
   PetscCall(MatCreate(comm, &ptap->C));
   PetscCall(MatSetSizes(ptap->C, BS * (ptap->cend - ptap->cstart), BS * (ptap->cend - ptap->cstart), PETSC_DETERMINE, PETSC_DETERMINE));
-  PetscCall(MatSetType(ptap->C, MATAIJ));
+  PetscCall(MatSetType(ptap->C, ctype));
+  PetscCall(PetscObjectTypeCompareAny((PetscObject)ptap->C, &ptap->cupper, MATSEQSBAIJ, MATMPISBAIJ, ""));
   PetscCall(MatSetBlockSize(ptap->C, BS));
+  /* SBAIJ: the preallocation counts the upper blocks, and its zero fill (of every block added) keeps those only, as
+     PETSc 3.18's SBAIJ ignores the lower triangle by default (set again for the products) */
   PetscCall(MatPreallocatorPreallocate(Cpre, PETSC_TRUE, ptap->C));
-  /* L's blocks are column-major, as BAIJ stores them: C takes them as they are */
-  PetscCall(MatSetOption(ptap->C, MAT_ROW_ORIENTED, PETSC_FALSE));
   PetscCall(MatDestroy(&Cpre));
+  if (ptap->cupper) PetscCall(MatSetOption(ptap->C, MAT_IGNORE_LOWER_TRIANGULAR, PETSC_TRUE));
+  PetscCall(ClothBlockMatrixSetUpOperations(ptap->C));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode ClothBlockPtAPCreate(Mat A, Mat P, ClothBlockPtAP *ptap)
+PetscErrorCode ClothBlockPtAPCreate(Mat A, Mat P, MatType ctype, ClothBlockPtAP *ptap)
 {
   ClothBlockPtAP p;
   ClothBlockRows rows;
@@ -299,7 +304,7 @@ PetscErrorCode ClothBlockPtAPCreate(Mat A, Mat P, ClothBlockPtAP *ptap)
   PetscCall(FindRemoteRows(p));
   p->rmax = RowBound(p, &rows);
   PetscCall(PetscMalloc2(p->rmax, &p->rcol, BS2 * p->rmax, &p->rval));
-  PetscCall(PreallocateProducts(p, &rows, comm, ncoarse / BS));
+  PetscCall(PreallocateProducts(p, &rows, comm, ncoarse / BS, ctype));
   PetscCall(ClothBlockRowsRestore(&rows));
   PetscCall(PetscLogEventEnd(ClothLog.block_ptap_symbolic, A, 0, 0, 0));
   *ptap = p;

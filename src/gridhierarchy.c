@@ -250,7 +250,7 @@ static PetscErrorCode BuildInterpolation(MPI_Comm comm, const GridLevel *fine, c
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode ClothGridHierarchyCreate(Cloth cloth, PetscInt ratio, PetscInt max_levels, PetscInt coarse_particles, ClothGridHierarchy *gh)
+PetscErrorCode ClothGridHierarchyCreate(Cloth cloth, PetscInt ratio, PetscInt max_levels, PetscInt coarse_particles, PetscBool all_maij, ClothGridHierarchy *gh)
 {
   ClothGridHierarchy h;
   GridLevel          fine, coarse;
@@ -278,7 +278,7 @@ PetscErrorCode ClothGridHierarchyCreate(Cloth cloth, PetscInt ratio, PetscInt ma
       PetscCall(GridLevelFree(&coarse));
       break;
     }
-    PetscCall(BuildInterpolation(comm, &fine, &coarse, ratio, nfine_levels == 1 ? PETSC_TRUE : PETSC_FALSE, &P[nfine_levels]));
+    PetscCall(BuildInterpolation(comm, &fine, &coarse, ratio, all_maij || nfine_levels == 1 ? PETSC_TRUE : PETSC_FALSE, &P[nfine_levels]));
     n[nfine_levels] = coarse.offset[coarse.npieces];
     for (PetscInt p = 0; p < fine.npieces; p++) {
       h->grids[2 * (nfine_levels * fine.npieces + p)]     = coarse.nu[p];

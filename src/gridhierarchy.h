@@ -21,11 +21,13 @@ typedef struct _n_ClothGridHierarchy *ClothGridHierarchy;
 #define CLOTH_GRID_MAX_LEVELS 16
 
 /* Coarsens the cloth's pattern grids by ratio (2: every other row and column) until a level has at most coarse_particles particles, no piece can be coarsened
-   further, or there are max_levels levels (the cloth included). Collective; after ClothSetUp. */
-PetscErrorCode ClothGridHierarchyCreate(Cloth cloth, PetscInt ratio, PetscInt max_levels, PetscInt coarse_particles, ClothGridHierarchy *gh);
+   further, or there are max_levels levels (the cloth included). all_maij: every interpolation MAIJ (the block
+   Galerkin products of block_ptap.h take them at every level); else only the finest. Collective; after ClothSetUp. */
+PetscErrorCode ClothGridHierarchyCreate(Cloth cloth, PetscInt ratio, PetscInt max_levels, PetscInt coarse_particles, PetscBool all_maij, ClothGridHierarchy *gh);
 PetscErrorCode ClothGridHierarchyGetLevels(ClothGridHierarchy gh, PetscInt *nlevels);
-/* The interpolation from level - 1 to level (1 <= level < nlevels) (borrowed): the finest one (level nlevels - 1)
-   MAIJ with 3 components (its scalar weights: MatMAIJGetAIJ), the others AIJ with block size 3. */
+/* The interpolation from level - 1 to level (1 <= level < nlevels) (borrowed): the finest one (level nlevels - 1), and
+   with all_maij every one, MAIJ with 3 components (its scalar weights: MatMAIJGetAIJ), the others AIJ with block
+   size 3. */
 PetscErrorCode ClothGridHierarchyGetInterpolation(ClothGridHierarchy gh, PetscInt level, Mat *P);
 /* The particles of a level (global). */
 PetscErrorCode ClothGridHierarchyGetLevelSize(ClothGridHierarchy gh, PetscInt level, PetscInt *nparticles);

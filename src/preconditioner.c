@@ -57,8 +57,9 @@
    matrix a few times and SBAIJ streams half the bytes. Measured on the hanging sheet with the multigrid (the same
    iterations, docs/performance.md): 129 x 129 and 257 x 257 1.2-1.3x faster on 1 and 2 ranks and 470 bytes per
    particle less; 65 x 65 (4,225 particles) the same; the dress (2,478 particles, point-block Jacobi, 2 ranks), whose
-   matrix fits in the caches, 3 % slower (MPISBAIJ's product has an extra exchange). GAMG's AIJ copy of an SBAIJ
-   matrix took 4x the iterations (129 x 129: 897 against 208 over 24 steps, cause not found), so GAMG keeps BAIJ. */
+   matrix fits in the caches, 3 % slower (MPISBAIJ's product has an extra exchange). GAMG keeps BAIJ (its AIJ copy
+   of an SBAIJ matrix took 4x the iterations until the copy's refresh was mended, UpdatePreconditioningMatrix; not
+   measured for speed since). */
 #define CLOTH_SBAIJ_MIN_PARTICLES 10000
 
 /* A solve this many iterations or fewer never triggers a refresh: at such counts a ratio is noise. */
@@ -69,8 +70,8 @@ struct _n_ClothPreconditioner {
   Cloth              cloth;         /* borrowed */
   ClothGridHierarchy grid;          /* the pattern-grid levels of -pc_type mg, else NULL */
   Mat               *coarse;        /* their operators, coarse[l] of level l < nlevels - 1 */
-  PetscBool          block_product; /* the finest Galerkin product is taken of the block matrix itself (block_ptap.h) */
-  ClothBlockPtAP     block_ptap;    /* that product, while the matrix's nonzero pattern lasts */
+  PetscBool          block_product; /* the Galerkin products are taken of the block matrices themselves (block_ptap.h) */
+  ClothBlockPtAP    *block_ptap;    /* those products, block_ptap[l] making level l - 1's, while A's nonzero pattern lasts */
   PetscBool          kept;          /* the preconditioner is kept between steps (multilevel types) */
   PetscBool          copy_aij;      /* it is built from an AIJ copy P of the (block) matrix */
   PetscReal          lag_ratio, rebuild_ratio;
@@ -199,13 +200,13 @@ static PetscErrorCode SetUpGridMultigrid(ClothPreconditioner pre, PC pc)
   PetscCall(PetscOptionsInt("-implicit_pc_grid_ratio", "Pattern-grid multigrid: keep every ratio-th row and column of each piece on the next coarser level", "ClothGridHierarchyCreate", ratio, &ratio, NULL));
   PetscCall(PetscOptionsInt("-implicit_pc_grid_levels", "Pattern-grid multigrid: at most this many levels, the cloth included", "ClothGridHierarchyCreate", max_levels, &max_levels, NULL));
   PetscCall(PetscOptionsInt("-implicit_pc_grid_coarse_particles", "Pattern-grid multigrid: coarsen until a level has at most this many particles (solved directly)", "ClothGridHierarchyCreate", coarse_particles, &coarse_particles, NULL));
-  PetscCall(PetscOptionsBool("-implicit_pc_grid_block_product", "Pattern-grid multigrid: take the finest Galerkin product of the block (BAIJ or SBAIJ) matrix itself (false: of an AIJ copy, by MatPtAP)", "ClothBlockPtAPCreate", pre->block_product,
-                             &pre->block_product, NULL));
+  PetscCall(PetscOptionsBool("-implicit_pc_grid_block_product", "Pattern-grid multigrid: take the Galerkin products of the block (BAIJ or SBAIJ) matrix itself, the coarse levels stored alike (false: of an AIJ copy, by MatPtAP)",
+                             "ClothBlockPtAPCreate", pre->block_product, &pre->block_product, NULL));
   PetscOptionsEnd();
   PetscCheck(max_levels >= 1 && max_levels <= CLOTH_GRID_MAX_LEVELS, PetscObjectComm((PetscObject)pc), PETSC_ERR_USER_INPUT, "-implicit_pc_grid_levels %" PetscInt_FMT ": expected 1 to %d", max_levels, CLOTH_GRID_MAX_LEVELS);
   PetscCheck(coarse_particles >= 1, PetscObjectComm((PetscObject)pc), PETSC_ERR_USER_INPUT, "-implicit_pc_grid_coarse_particles %" PetscInt_FMT ": expected a positive count", coarse_particles);
   PetscCheck(ratio >= 2, PetscObjectComm((PetscObject)pc), PETSC_ERR_USER_INPUT, "-implicit_pc_grid_ratio %" PetscInt_FMT ": expected 2 or more", ratio);
-  PetscCall(ClothGridHierarchyCreate(pre->cloth, ratio, max_levels, coarse_particles, &pre->grid));
+  PetscCall(ClothGridHierarchyCreate(pre->cloth, ratio, max_levels, coarse_particles, pre->block_product, &pre->grid));
   PetscCall(ClothGridHierarchyGetLevels(pre->grid, &nlevels));
   PetscCall(PCMGSetLevels(pc, nlevels, NULL));
   for (PetscInt l = 1; l < nlevels; l++) {
@@ -213,10 +214,10 @@ static PetscErrorCode SetUpGridMultigrid(ClothPreconditioner pre, PC pc)
     PetscCall(ClothGridHierarchyGetInterpolation(pre->grid, l, &P));
     PetscCall(PCMGSetInterpolation(pc, l, P));
   }
-  /* The coarse operators are Galerkin products made here (RefreshGridOperators): the finest one of the block matrix
-     itself (ClothBlockPtAP), which MatPtAP does not support, or of an AIJ copy; the coarser ones by MatPtAP. */
+  /* The coarse operators are Galerkin products made here (RefreshGridOperators): of the block matrices themselves
+     (ClothBlockPtAP), which MatPtAP does not support, or of AIJ copies by MatPtAP. */
   PetscCall(PCMGSetGalerkin(pc, PC_MG_GALERKIN_NONE));
-  PetscCall(PetscCalloc1(nlevels, &pre->coarse));
+  PetscCall(PetscCalloc2(nlevels, &pre->coarse, nlevels, &pre->block_ptap));
   /* the levels' solvers exist only now: they read their -mg_levels_ and -mg_coarse_ options here */
   for (PetscInt l = 0; l < nlevels; l++) {
     PetscCall(PCMGGetSmoother(pc, l, &smoother));
@@ -345,39 +346,45 @@ static PetscErrorCode SmoothFinestLevelWith(ClothPreconditioner pre, Mat A, Mat 
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* The first coarse level's operator P^T A P of the block matrix A itself (ClothBlockPtAP), into pre->coarse[l - 1]. */
-static PetscErrorCode BlockGalerkinProduct(ClothPreconditioner pre, PetscInt l, Mat A, Mat interpolation, PetscBool new_pattern)
+/* Level l - 1's operator P^T A P of the block matrix A itself (ClothBlockPtAP), into pre->coarse[l - 1], stored as
+   ctype. */
+static PetscErrorCode BlockGalerkinProduct(ClothPreconditioner pre, PetscInt l, Mat A, Mat interpolation, MatType ctype, PetscBool new_pattern)
 {
   PetscFunctionBeginUser;
-  if (new_pattern || !pre->block_ptap) {
-    PetscCall(ClothBlockPtAPDestroy(&pre->block_ptap));
+  if (new_pattern || !pre->block_ptap[l]) {
+    PetscCall(ClothBlockPtAPDestroy(&pre->block_ptap[l]));
     PetscCall(MatDestroy(&pre->coarse[l - 1]));
-    PetscCall(ClothBlockPtAPCreate(A, interpolation, &pre->block_ptap));
-    PetscCall(ClothBlockPtAPGetProduct(pre->block_ptap, &pre->coarse[l - 1]));
+    PetscCall(ClothBlockPtAPCreate(A, interpolation, ctype, &pre->block_ptap[l]));
+    PetscCall(ClothBlockPtAPGetProduct(pre->block_ptap[l], &pre->coarse[l - 1]));
     PetscCall(PetscObjectReference((PetscObject)pre->coarse[l - 1]));
   }
-  PetscCall(ClothBlockPtAPCompute(pre->block_ptap, A));
+  PetscCall(ClothBlockPtAPCompute(pre->block_ptap[l], A));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 /* The pattern-grid levels' operators, from the finest level's matrix P down: P_l^T B_l P_l, the storage of the
-   products kept (their symbolic part is done once per nonzero pattern of A). The finest product is taken of the
-   block matrix itself when P is one (-implicit_pc_grid_block_product), else by MatPtAP of P (AIJ). The finest
-   level's residual is A's. */
+   products kept (their symbolic part is done once per nonzero pattern of A). When P is a block matrix
+   (-implicit_pc_grid_block_product) every product is ClothBlockPtAP's and each coarse level keeps P's storage (BAIJ,
+   or SBAIJ: the upper triangle), but the coarsest, which PCMG factors (LU of AIJ); else MatPtAP of P (AIJ) at every
+   level. The finest level's residual is A's. */
 static PetscErrorCode RefreshGridOperators(ClothPreconditioner pre, PC pc, Mat A, Mat P, PetscBool new_pattern)
 {
   PetscInt  nlevels;
   Mat       fine = P, interpolation;
   KSP       smoother;
-  PetscBool block;
+  PetscBool block, sbaij;
+  MatType   block_type;
 
   PetscFunctionBeginUser;
   PetscCall(ClothGridHierarchyGetLevels(pre->grid, &nlevels));
   PetscCall(ClothBlockMatrixIsBlock(P, &block));
+  /* not MatGetType's name: reading an MPISBAIJ matrix's parts renames it for a moment (block_matrix.c) */
+  PetscCall(PetscObjectTypeCompareAny((PetscObject)P, &sbaij, MATSEQSBAIJ, MATMPISBAIJ, ""));
+  block_type = sbaij ? MATSBAIJ : MATBAIJ;
   for (PetscInt l = nlevels - 1; l > 0; l--) {
     PetscCall(ClothGridHierarchyGetInterpolation(pre->grid, l, &interpolation));
-    if (l == nlevels - 1 && block)
-      PetscCall(BlockGalerkinProduct(pre, l, P, interpolation, new_pattern));
+    if (block)
+      PetscCall(BlockGalerkinProduct(pre, l, fine, interpolation, l == 1 ? MATAIJ : block_type, new_pattern));
     else {
       if (new_pattern) PetscCall(MatDestroy(&pre->coarse[l - 1]));
       PetscCall(MatPtAP(fine, interpolation, pre->coarse[l - 1] ? MAT_REUSE_MATRIX : MAT_INITIAL_MATRIX, PETSC_DEFAULT, &pre->coarse[l - 1]));
@@ -409,10 +416,12 @@ static PetscErrorCode UpdatePreconditioningMatrix(ClothPreconditioner pre, Mat A
   if (sbaij && pre->P) {
     /* PETSc 3.18's MatConvert of SEQSBAIJ with MAT_REUSE_MATRIX writes block-row offsets into the AIJ matrix's point
        rows (src/mat/impls/sbaij/seq/aijsbaij.c; GAMG's next product then overran the heap, seen with valgrind):
-       convert afresh and copy the values into the copy GAMG holds. */
+       convert afresh and copy the values into the copy the preconditioner holds, entry by entry: a fresh conversion
+       has the same entries in another order within a row, so the array copy of SAME_NONZERO_PATTERN put values in
+       the wrong columns (GAMG on SBAIJ took 897 Krylov iterations against BAIJ's 208 at 129 x 129, 24 steps; now 209) */
     Mat fresh;
     PetscCall(MatConvert(A, MATAIJ, MAT_INITIAL_MATRIX, &fresh));
-    PetscCall(MatCopy(fresh, pre->P, SAME_NONZERO_PATTERN));
+    PetscCall(MatCopy(fresh, pre->P, DIFFERENT_NONZERO_PATTERN));
     PetscCall(MatDestroy(&fresh));
   } else
     PetscCall(MatConvert(A, MATAIJ, pre->P ? MAT_REUSE_MATRIX : MAT_INITIAL_MATRIX, &pre->P));
@@ -545,13 +554,15 @@ PetscErrorCode ClothPreconditionerDestroy(ClothPreconditioner *pre)
   PetscFunctionBeginUser;
   if (!*pre) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(MatDestroy(&(*pre)->P));
-  PetscCall(ClothBlockPtAPDestroy(&(*pre)->block_ptap));
   PetscCall(VecDestroy(&(*pre)->coords));
   if ((*pre)->grid) {
     PetscInt nlevels;
     PetscCall(ClothGridHierarchyGetLevels((*pre)->grid, &nlevels));
-    for (PetscInt l = 0; l < nlevels; l++) PetscCall(MatDestroy(&(*pre)->coarse[l]));
-    PetscCall(PetscFree((*pre)->coarse));
+    for (PetscInt l = 0; l < nlevels; l++) {
+      PetscCall(MatDestroy(&(*pre)->coarse[l]));
+      PetscCall(ClothBlockPtAPDestroy(&(*pre)->block_ptap[l]));
+    }
+    PetscCall(PetscFree2((*pre)->coarse, (*pre)->block_ptap));
   }
   PetscCall(ClothGridHierarchyDestroy(&(*pre)->grid));
   PetscCall(PetscFree(*pre));

@@ -58,11 +58,13 @@ foreach(np 1 3)
   clothsim_add_mpi_test(grid_hierarchy_sheet39_r4_np${np} ${np} $<TARGET_FILE:test_gridhierarchy> -scene tests/data/free_sheet.yaml -grid 39 -ratio 4)
 endforeach()
 
-# The block Galerkin product of the pattern-grid multigrid (tests/programs/test_block_ptap.c): P^T A P taken of the BAIJ
+# The block Galerkin products of the pattern-grid multigrid (tests/programs/test_block_ptap.c): P^T A P taken of the BAIJ
 # implicit matrix of a perturbed cloth equals MatPtAP of its AIJ copy to 1e-13 relative (measured 0: the same sums in the same order), at two
-# step sizes in a row; three small pieces with seams, a sewn pair with one piece pinned, a 39 x 39 sheet; 1 to 3 ranks
-# (in parallel some product rows must go to another rank). The same of the SBAIJ matrix (upper triangle only; the
-# product is S + S^T), with its inverted diagonal blocks against PETSc's of the AIJ copy (1e-12; measured < 1e-15).
+# step sizes in a row; stored as BAIJ (a middle level), its own product with the next interpolation, stored as AIJ (the
+# coarsest level), equals MatPtAP of its AIJ copy alike (every scene gives 3 levels: -expect_levels); three small pieces
+# with seams, a sewn pair with one piece pinned, a 39 x 39 sheet; 1 to 3 ranks (in parallel some product rows must go
+# to another rank). The same of the SBAIJ matrix (upper triangle only; the product is S + S^T, the middle level SBAIJ),
+# with the inverted diagonal blocks of both SBAIJ levels against PETSc's of the AIJ copies (1e-12; measured < 1e-15).
 # About 1 s each.
 clothsim_add_test_program(test_block_ptap test_block_ptap.c)
 foreach(np 1 2 3)
@@ -71,9 +73,9 @@ foreach(np 1 2 3)
     if(type STREQUAL "sbaij")
       set(name_suffix "_sbaij")
     endif()
-    clothsim_add_mpi_test(block_ptap_three_pieces${name_suffix}_np${np} ${np} $<TARGET_FILE:test_block_ptap> -scene tests/data/jacobian_two_pieces.yaml -ratio 2 -implicit_mat_type ${type})
-    clothsim_add_mpi_test(block_ptap_pinned${name_suffix}_np${np} ${np} $<TARGET_FILE:test_block_ptap> -scene tests/data/seam_two_pieces.yaml -implicit_mat_type ${type})
-    clothsim_add_mpi_test(block_ptap_sheet39${name_suffix}_np${np} ${np} $<TARGET_FILE:test_block_ptap> -scene tests/data/free_sheet.yaml -grid 39 -implicit_mat_type ${type})
+    clothsim_add_mpi_test(block_ptap_three_pieces${name_suffix}_np${np} ${np} $<TARGET_FILE:test_block_ptap> -scene tests/data/jacobian_two_pieces.yaml -ratio 2 -implicit_mat_type ${type} -expect_levels 3)
+    clothsim_add_mpi_test(block_ptap_pinned${name_suffix}_np${np} ${np} $<TARGET_FILE:test_block_ptap> -scene tests/data/seam_two_pieces.yaml -implicit_mat_type ${type} -expect_levels 3)
+    clothsim_add_mpi_test(block_ptap_sheet39${name_suffix}_np${np} ${np} $<TARGET_FILE:test_block_ptap> -scene tests/data/free_sheet.yaml -grid 39 -implicit_mat_type ${type} -expect_levels 3)
   endforeach()
 endforeach()
 

@@ -159,7 +159,7 @@ int main(int argc, char **argv)
   PetscCall(PetscOptionsGetInt(NULL, NULL, "-ratio", &ratio, NULL));
   PetscCall(PetscOptionsGetBool(NULL, NULL, "-pinned", &pinned, NULL));
   PetscCall(TestClothFromOptions(&scene, &cloth));
-  PetscCall(ClothGridHierarchyCreate(cloth, ratio, CLOTH_GRID_MAX_LEVELS, 1, &gh));
+  PetscCall(ClothGridHierarchyCreate(cloth, ratio, CLOTH_GRID_MAX_LEVELS, 1, PETSC_FALSE, &gh));
   PetscCall(ClothGridHierarchyView(gh, PETSC_VIEWER_STDOUT_WORLD));
   PetscCall(ClothGridHierarchyGetLevels(gh, &nlevels));
   while (ExpectedLevelSize(scene, ratio, levels_expected) != ExpectedLevelSize(scene, ratio, levels_expected - 1)) levels_expected++;
