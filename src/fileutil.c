@@ -14,11 +14,25 @@
 #define FILE_LOCK_NAME ".clothsim.lock"
 #define FILE_LOCK_TEXT_LEN 512
 
-/* mkdir -p on the calling rank; returns 0 or an errno value. */
-static int MakeDirectoryLocal(const char dir[])
+/* The module's one shape: rank 0 runs action(ctx), plain C returning 0 or an errno value (or a code < 0 of the
+   caller's), and every rank gets that result in *err, so that all ranks take the same error path. */
+static PetscErrorCode RunOnRankZero(MPI_Comm comm, int (*action)(void *), void *ctx, int *err)
 {
-  char   path[CLOTH_PATH_LEN];
-  size_t len = strlen(dir);
+  PetscMPIInt rank;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  *err = rank == 0 ? action(ctx) : 0;
+  PetscCallMPI(MPI_Bcast(err, 1, MPI_INT, 0, comm));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* mkdir -p of the directory ctx on the calling rank; returns 0 or an errno value. */
+static int MakeDirectoryLocal(void *ctx)
+{
+  const char *dir = ctx;
+  char        path[CLOTH_PATH_LEN];
+  size_t      len = strlen(dir);
 
   if (len == 0) return 0;
   if (len >= sizeof(path)) return ENAMETOOLONG;
@@ -41,57 +55,54 @@ static int MakeDirectoryLocal(const char dir[])
 
 PetscErrorCode ClothFileMakeDirectory(MPI_Comm comm, const char dir[])
 {
-  PetscMPIInt rank;
-  int         err = 0;
+  int err;
 
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  if (rank == 0) err = MakeDirectoryLocal(dir);
-  PetscCallMPI(MPI_Bcast(&err, 1, MPI_INT, 0, comm));
+  PetscCall(RunOnRankZero(comm, MakeDirectoryLocal, (void *)dir, &err));
   PetscCheck(!err, comm, PETSC_ERR_FILE_WRITE, "Cannot create directory %s: %s", dir, strerror(err));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* 1 when the path ctx names a regular file, else 0. */
+static int IsRegularFileLocal(void *ctx)
+{
+  struct stat st;
+
+  return stat((const char *)ctx, &st) == 0 && S_ISREG(st.st_mode);
+}
+
 PetscErrorCode ClothFileExists(MPI_Comm comm, const char path[], PetscBool *exists)
 {
-  PetscMPIInt rank;
-  int         found = 0;
+  int found;
 
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  if (rank == 0) {
-    struct stat st;
-
-    found = stat(path, &st) == 0 && S_ISREG(st.st_mode);
-  }
-  PetscCallMPI(MPI_Bcast(&found, 1, MPI_INT, 0, comm));
+  PetscCall(RunOnRankZero(comm, IsRegularFileLocal, (void *)path, &found));
   *exists = found ? PETSC_TRUE : PETSC_FALSE;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* 0 when the path ctx is a regular file that can be opened for reading, -1: a directory, -2: not a regular file,
+   else the errno value. */
+static int CheckReadableLocal(void *ctx)
+{
+  const char *path = ctx;
+  struct stat st;
+  FILE       *fp;
+
+  if (stat(path, &st) != 0) return errno;
+  if (S_ISDIR(st.st_mode)) return -1;
+  if (!S_ISREG(st.st_mode)) return -2;
+  if (!(fp = fopen(path, "rb"))) return errno;
+  fclose(fp);
+  return 0;
+}
+
 PetscErrorCode ClothFileCheckReadable(MPI_Comm comm, const char what[], const char path[], const char in_directory[])
 {
-  PetscMPIInt rank;
-  int         err = 0; /* errno, or -1: a directory, -2: not a regular file */
+  int err;
 
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  if (rank == 0) {
-    struct stat st;
-    FILE       *fp;
-
-    if (stat(path, &st) != 0)
-      err = errno;
-    else if (S_ISDIR(st.st_mode))
-      err = -1;
-    else if (!S_ISREG(st.st_mode))
-      err = -2;
-    else if (!(fp = fopen(path, "rb")))
-      err = errno;
-    else
-      fclose(fp);
-  }
-  PetscCallMPI(MPI_Bcast(&err, 1, MPI_INT, 0, comm));
+  PetscCall(RunOnRankZero(comm, CheckReadableLocal, (void *)path, &err));
   PetscCheck(err != -1, comm, PETSC_ERR_FILE_OPEN, "%s %s is a directory: expected a file (%s)", what, path, in_directory);
   PetscCheck(err != -2, comm, PETSC_ERR_FILE_OPEN, "%s %s is not a regular file: expected a file (%s)", what, path, in_directory);
   PetscCheck(err != ENOENT, comm, PETSC_ERR_FILE_OPEN, "%s %s does not exist", what, path);
@@ -99,16 +110,27 @@ PetscErrorCode ClothFileCheckReadable(MPI_Comm comm, const char what[], const ch
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* Rank 0 only, plain C: opens and locks dir/.clothsim.lock; returns 0 and the locked fd, or EAGAIN with the
-   holder's text in text (another live run), or another errno (ENOLCK and the like: no locks here). */
-static int LockDirectoryLocal(const char dir[], const char holder[], int *fd, char text[], size_t len)
+typedef struct {
+  const char *dir, *holder;
+  int         fd;
+  char        text[FILE_LOCK_TEXT_LEN];
+} DirectoryLock;
+
+/* Rank 0 only, plain C: opens and locks dir/.clothsim.lock of the DirectoryLock ctx; returns 0 and the locked fd, or
+   EAGAIN with the holder's text in text (another live run), or another errno (ENOLCK and the like: no locks here). */
+static int LockDirectoryLocal(void *ctx)
 {
-  const size_t path_len  = strlen(dir) + sizeof(FILE_LOCK_NAME) + 1;
-  char        *path      = malloc(path_len);
-  struct flock lock      = {.l_type = F_WRLCK, .l_whence = SEEK_SET, .l_start = 0, .l_len = 0};
-  char         host[256] = "unknown", started[64] = "";
-  time_t       now = time(NULL);
-  int          err = 0;
+  DirectoryLock *lk  = ctx;
+  const char    *dir = lk->dir, *holder = lk->holder;
+  int           *fd        = &lk->fd;
+  char          *text      = lk->text;
+  const size_t   len       = sizeof(lk->text);
+  const size_t   path_len  = strlen(dir) + sizeof(FILE_LOCK_NAME) + 1;
+  char          *path      = malloc(path_len);
+  struct flock   lock      = {.l_type = F_WRLCK, .l_whence = SEEK_SET, .l_start = 0, .l_len = 0};
+  char           host[256] = "unknown", started[64] = "";
+  time_t         now = time(NULL);
+  int            err = 0;
 
   *fd = -1;
   if (!path) return ENOMEM;
@@ -137,17 +159,14 @@ static int LockDirectoryLocal(const char dir[], const char holder[], int *fd, ch
 
 PetscErrorCode ClothFileLockDirectory(MPI_Comm comm, const char dir[], const char holder[], int *fd)
 {
-  PetscMPIInt rank;
-  int         err                      = 0;
-  char        text[FILE_LOCK_TEXT_LEN] = "";
+  DirectoryLock lk = {.dir = dir, .holder = holder, .fd = -1, .text = ""};
+  int           err;
 
   PetscFunctionBeginUser;
-  *fd = -1;
-  PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  if (rank == 0) err = LockDirectoryLocal(dir, holder, fd, text, sizeof(text));
-  PetscCallMPI(MPI_Bcast(&err, 1, MPI_INT, 0, comm));
-  PetscCallMPI(MPI_Bcast(text, (PetscMPIInt)sizeof(text), MPI_CHAR, 0, comm));
-  PetscCheck(err != EAGAIN, comm, PETSC_ERR_USER_INPUT, "output directory %s is in use by another run (%s; lock %s/%s): wait for it to end, or choose another -output_dir", dir, text[0] ? text : "holder unknown", dir, FILE_LOCK_NAME);
+  PetscCall(RunOnRankZero(comm, LockDirectoryLocal, &lk, &err));
+  *fd = lk.fd;
+  PetscCallMPI(MPI_Bcast(lk.text, (PetscMPIInt)sizeof(lk.text), MPI_CHAR, 0, comm));
+  PetscCheck(err != EAGAIN, comm, PETSC_ERR_USER_INPUT, "output directory %s is in use by another run (%s; lock %s/%s): wait for it to end, or choose another -output_dir", dir, lk.text[0] ? lk.text : "holder unknown", dir, FILE_LOCK_NAME);
   PetscCheck(err != EACCES && err != EROFS && err != ENOENT && err != ENOTDIR && err != ENOSPC, comm, PETSC_ERR_FILE_WRITE, "output directory %s: cannot create the lock file %s in it: %s", dir, FILE_LOCK_NAME, strerror(err));
   if (err) PetscCall(PetscFPrintf(comm, PETSC_STDERR, "WARNING: output directory %s cannot be locked (%s): nothing stops a second run from writing into it at the same time\n", dir, strerror(err)));
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -165,39 +184,54 @@ PetscErrorCode ClothFileUnlockDirectory(int *fd)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+typedef struct {
+  const char *tmp, *path;
+  FILE       *fp;
+} TextFile;
+
+/* Opens ctx's tmp for writing into its fp; returns 0 or an errno value. */
+static int OpenTextLocal(void *ctx)
+{
+  TextFile *file = ctx;
+
+  errno    = 0;
+  file->fp = fopen(file->tmp, "w");
+  return file->fp ? 0 : (errno ? errno : EIO);
+}
+
 PetscErrorCode ClothFileOpenText(MPI_Comm comm, const char tmp[], FILE **fp)
 {
-  PetscMPIInt rank;
-  int         err = 0;
+  TextFile file = {tmp, NULL, NULL};
+  int      err;
 
   PetscFunctionBeginUser;
-  *fp = NULL;
-  PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  if (rank == 0) {
-    errno = 0;
-    *fp   = fopen(tmp, "w");
-    if (!*fp) err = errno ? errno : EIO;
-  }
-  PetscCallMPI(MPI_Bcast(&err, 1, MPI_INT, 0, comm));
+  PetscCall(RunOnRankZero(comm, OpenTextLocal, &file, &err));
+  *fp = file.fp;
   PetscCheck(!err, comm, PETSC_ERR_FILE_OPEN, "Cannot create %s: %s", tmp, strerror(err));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* Flushes, syncs and closes ctx's fp, removing its tmp on a write error; returns 0 or an errno value. */
+static int CloseTextLocal(void *ctx)
+{
+  TextFile *file = ctx;
+  int       err  = 0;
+
+  errno = 0;
+  if (fflush(file->fp) != 0 || ferror(file->fp)) err = errno ? errno : EIO;
+  if (!err && fsync(fileno(file->fp)) != 0) err = errno;
+  if (fclose(file->fp) != 0 && !err) err = errno;
+  if (err) remove(file->tmp);
+  return err;
+}
+
 PetscErrorCode ClothFileCommitText(MPI_Comm comm, FILE *fp, const char tmp[], const char path[])
 {
-  PetscMPIInt rank;
-  int         err = 0;
+  TextFile file = {tmp, path, fp};
+  int      err;
 
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  if (rank == 0) {
-    errno = 0;
-    if (fflush(fp) != 0 || ferror(fp)) err = errno ? errno : EIO;
-    if (!err && fsync(fileno(fp)) != 0) err = errno;
-    if (fclose(fp) != 0 && !err) err = errno;
-    if (err) remove(tmp);
-  }
-  PetscCallMPI(MPI_Bcast(&err, 1, MPI_INT, 0, comm));
+  PetscCall(RunOnRankZero(comm, CloseTextLocal, &file, &err));
   PetscCheck(!err, comm, PETSC_ERR_FILE_WRITE, "Cannot write %s: %s; %s is left as it was", tmp, strerror(err), path);
   PetscCall(ClothFileRename(comm, tmp, path));
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -221,16 +255,22 @@ PetscErrorCode ClothFileCheckSpace(MPI_Comm comm, const char dir[], double bytes
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* rename(2) of ctx's tmp onto its path; returns 0 or an errno value. */
+static int RenameLocal(void *ctx)
+{
+  const TextFile *file = ctx;
+
+  return rename(file->tmp, file->path) != 0 ? errno : 0;
+}
+
 PetscErrorCode ClothFileRename(MPI_Comm comm, const char from[], const char to[])
 {
-  PetscMPIInt rank;
-  int         err = 0;
+  TextFile file = {from, to, NULL};
+  int      err;
 
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Barrier(comm));
-  PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  if (rank == 0 && rename(from, to) != 0) err = errno;
-  PetscCallMPI(MPI_Bcast(&err, 1, MPI_INT, 0, comm));
+  PetscCall(RunOnRankZero(comm, RenameLocal, &file, &err));
   PetscCheck(!err, comm, PETSC_ERR_FILE_WRITE, "Cannot rename %s to %s: %s", from, to, strerror(err));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -18,8 +18,18 @@
 
 /* The default -implicit_pc_lag_ratio: a lagged hierarchy is refreshed once a solve takes 20 % more iterations than after
    the last refresh. Measured (docs/performance.md): 8-24 % less wall time than refreshing every step at 257 x 257 and
-   129 x 129, for about 10 % more iterations. */
+   129 x 129, for about 10 % more iterations (GAMG, and the pattern-grid multigrid before its coarse levels became block
+   products). */
 #define CLOTH_PC_DEFAULT_LAG_RATIO 1.2
+
+/* The default -implicit_pc_grid_lag_max_particles: the pattern-grid multigrid is lagged only below this many particles
+   and refreshed at every step from it on, where a refresh (block products of every level, the smoothers' bounds, the
+   coarse LU) now costs less than the iterations a lagged hierarchy adds. Measured over the full second, 1 rank (wall,
+   Krylov iterations a step, lagged against refreshed every step; docs/performance.md): 65 x 65 4.2-4.5 s, 7.9 against
+   5.3-5.4 s, 7.4; 129 x 129 23.3-27.5 s, 14.0 against 25.8-29.7 s, 12.6; 257 x 257 138.6-147.9 s, 21.5 against 130.4-137.5
+   s, 18.6 (2 ranks: 85.7-96.1 s against 91.6-92.7 s); 513 x 513, 48 steps: 127.8 s, 26.1 against 116.8 s, 23.3. The
+   crossover lies between 16,641 and 66,049 particles. */
+#define CLOTH_PC_GRID_LAG_MAX_PARTICLES 40000
 
 /* Pattern-grid multigrid (-pc_type mg): coarsened until a level has at most this many particles, whose system is
    then factored directly (PCMG's coarse solve: LU, redundant on every rank). */
@@ -229,7 +239,8 @@ static PetscErrorCode SetUpGridMultigrid(ClothPreconditioner pre, PC pc)
 PetscErrorCode ClothPreconditionerSetFromOptions(ClothPreconditioner pre)
 {
   PC          pc;
-  PetscBool   multilevel, use_amat_set;
+  PetscBool   multilevel, mg, use_amat_set;
+  PetscInt    lag_max_particles = CLOTH_PC_GRID_LAG_MAX_PARTICLES, nparticles;
   const char *prefix;
 
   PetscFunctionBeginUser;
@@ -237,7 +248,13 @@ PetscErrorCode ClothPreconditionerSetFromOptions(ClothPreconditioner pre)
   PetscCall(PetscObjectTypeCompareAny((PetscObject)pc, &multilevel, PCGAMG, PCML, PCHYPRE, PCMG, ""));
   pre->kept     = multilevel;
   pre->copy_aij = multilevel;
+  PetscCall(PetscObjectTypeCompare((PetscObject)pc, PCMG, &mg));
+  PetscCall(ClothGetSizes(pre->cloth, NULL, &nparticles));
   PetscOptionsBegin(PetscObjectComm((PetscObject)pre->ksp), NULL, "Implicit solve: multilevel preconditioner", "ClothPreconditioner");
+  PetscCall(PetscOptionsInt("-implicit_pc_grid_lag_max_particles", "Pattern-grid multigrid: keep it over steps (lag) only below this many particles, refresh it every step from it on (there the default -implicit_pc_lag_ratio is 0)",
+                            "ClothPreconditionerSetFromOptions", lag_max_particles, &lag_max_particles, NULL));
+  PetscCheck(lag_max_particles >= 0, PetscObjectComm((PetscObject)pre->ksp), PETSC_ERR_USER_INPUT, "-implicit_pc_grid_lag_max_particles %" PetscInt_FMT ": expected a count >= 0", lag_max_particles);
+  if (mg && nparticles >= lag_max_particles) pre->lag_ratio = 0;
   PetscCall(PetscOptionsReal("-implicit_pc_lag_ratio", "Keep a multilevel preconditioner over steps until a solve takes more than this times the iterations after its last refresh (0: refresh every step)", "ClothPreconditionerSolved", pre->lag_ratio,
                              &pre->lag_ratio, NULL));
   PetscCall(PetscOptionsInt("-implicit_pc_lag_max", "Refresh a multilevel preconditioner after at most this many lagged solves in a row", "ClothPreconditionerSolved", pre->lag_max, &pre->lag_max, NULL));
@@ -252,9 +269,8 @@ PetscErrorCode ClothPreconditionerSetFromOptions(ClothPreconditioner pre)
                              "ClothPreconditionerPrepare", pre->rigid_body, &pre->rigid_body, NULL));
   PetscOptionsEnd();
   if (multilevel) {
-    PetscBool gamg, mg;
+    PetscBool gamg;
     PetscCall(PetscObjectTypeCompare((PetscObject)pc, PCGAMG, &gamg));
-    PetscCall(PetscObjectTypeCompare((PetscObject)pc, PCMG, &mg));
     if (gamg || mg) PetscCall(SetMultigridSmootherDefaults(pre->ksp, gamg && pre->rigid_body ? PCJACOBI : PCPBJACOBI));
     if (gamg) PetscCall(SetGAMGDefaults(pc));
     if (mg) PetscCall(SetGridMultigridDefaults(pre->ksp));

@@ -6,7 +6,9 @@
 #    (point-block Jacobi's grows 2x from 65 to 129: 147 and 293 per step over a second, docs/performance.md).
 # 2. They solve the same system: each and point-block Jacobi, all to rtol 1e-9, end within 1e-8 m (measured 1.2e-11 and 1.8e-11 m).
 # 3. The default preconditioner: point-block Jacobi below -implicit_pc_grid_min_particles (2500; the 33 x 33 sheet),
-#    mg from it on without seams (65 x 65), GAMG for a scene with seams from -implicit_pc_multilevel_min_particles on.
+#    mg from it on without seams (65 x 65), GAMG for a scene with seams from -implicit_pc_multilevel_min_particles on;
+#    mg lagged (lag ratio 1.2) below -implicit_pc_grid_lag_max_particles and refreshed every step (lag ratio 0) from
+#    it on (40,000; checked at 65 x 65 with the threshold lowered to 4,000).
 # 4. A restart from a checkpoint continues bit for bit (the hierarchy is rebuilt at every checkpoint, as a restart
 #    rebuilds it), with the coarse levels lagged over steps (-implicit_pc_lag_ratio 1.2, the default): the 65 x 65 runs
 #    must have lagged steps (measured: mg 3 rebuilt, 2 refreshed, 19 lagged; GAMG 3, 4, 17), so that the restart covers them.
@@ -124,4 +126,7 @@ one_step default_33 input/hanging_sheet.yaml -grid 33
 uses default_33 pbjacobi
 one_step seams tests/data/seam_two_pieces.yaml -implicit_pc_multilevel_min_particles 100
 uses seams gamg
-echo "defaults: pbjacobi at 33 x 33, mg at 65 x 65, gamg with seams from -implicit_pc_multilevel_min_particles on"
+grep -q "lag ratio 1.2," "$work/mg_65.log" || fail "65 x 65 mg: expected lag ratio 1.2, got: $(grep 'kept between solves' "$work/mg_65.log")"
+one_step mg_65_refreshed input/hanging_sheet.yaml -grid 65 -implicit_pc_grid_lag_max_particles 4000 -integrator_view
+grep -Eq "lag ratio 0\.?," "$work/mg_65_refreshed.log" || fail "65 x 65 mg, -implicit_pc_grid_lag_max_particles 4000: expected lag ratio 0, got: $(grep 'kept between solves' "$work/mg_65_refreshed.log")"
+echo "defaults: pbjacobi at 33 x 33, mg at 65 x 65 (lagged below -implicit_pc_grid_lag_max_particles, refreshed every step from it on), gamg with seams from -implicit_pc_multilevel_min_particles on"
