@@ -432,9 +432,10 @@ static PetscErrorCode UpdatePreconditioningMatrix(ClothPreconditioner pre, Mat A
   if (sbaij && pre->P) {
     /* PETSc 3.18's MatConvert of SEQSBAIJ with MAT_REUSE_MATRIX writes block-row offsets into the AIJ matrix's point
        rows (src/mat/impls/sbaij/seq/aijsbaij.c; GAMG's next product then overran the heap, seen with valgrind):
-       convert afresh and copy the values into the copy the preconditioner holds, entry by entry: a fresh conversion
-       has the same entries in another order within a row, so the array copy of SAME_NONZERO_PATTERN put values in
-       the wrong columns (GAMG on SBAIJ took 897 Krylov iterations against BAIJ's 208 at 129 x 129, 24 steps; now 209) */
+       convert afresh and copy the values into the copy the preconditioner holds, entry by entry: the held copy's value
+       array does not line up with a fresh conversion's (the same number of entries, not the same layout), so the array
+       copy of SAME_NONZERO_PATTERN put values in the wrong places (GAMG on SBAIJ took 897 Krylov iterations against
+       BAIJ's 208 at 129 x 129, 24 steps; now 209) */
     Mat fresh;
     PetscCall(MatConvert(A, MATAIJ, MAT_INITIAL_MATRIX, &fresh));
     PetscCall(MatCopy(fresh, pre->P, DIFFERENT_NONZERO_PATTERN));
