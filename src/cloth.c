@@ -325,6 +325,7 @@ PetscErrorCode ClothSetUp(Cloth cloth)
   PetscCall(ClothPartitionGraph(cloth->comm, cloth->partition_type, cloth->nglobal, cloth->xadj, cloth->adjncy, size, cloth->part));
   PetscCall(PetscLogEventEnd(ClothLog.partition, 0, 0, 0, 0));
   cloth->edge_cut = ClothPartitionEdgeCut(cloth->nglobal, cloth->xadj, cloth->adjncy, cloth->part);
+  cloth->nedges   = cloth->xadj[cloth->nglobal] / 2;
   PetscCall(ClothLogPhaseEnd(CLOTH_SETUP_PARTITION));
   PetscCall(ClothLogPhaseBegin(CLOTH_SETUP_DISTRIBUTE));
   PetscCall(ClothNumberParticles(cloth));
@@ -367,7 +368,7 @@ static PetscErrorCode ClothViewPartitionSummary(Cloth cloth, PetscViewer viewer)
 {
   enum { OWNED, GHOSTS, INTERACTIONS, NCOUNTS };
   const PetscInt local[NCOUNTS] = {cloth->nlocal, cloth->nghost, cloth->nlinks + cloth->nangles_evaluated};
-  const PetscInt edges          = cloth->xadj[cloth->nglobal] / 2;
+  const PetscInt edges          = cloth->nedges;
   PetscInt       minc[NCOUNTS], maxc[NCOUNTS], sum[NCOUNTS];
   PetscMPIInt    size;
 

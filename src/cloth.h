@@ -192,6 +192,10 @@ PetscErrorCode ClothGetSelfContact(Cloth cloth, ClothSelfContact *sc);
 /* A symmetric block (bs 3) matrix with exactly the nonzero pattern of the interactions, preallocated, of the given
    type (MATBAIJ, or MATSBAIJ: only the upper triangle stored) unless -implicit_mat_type says otherwise. */
 PetscErrorCode ClothCreateMatrix(Cloth cloth, MatType type, Mat *A);
+/* Frees the interaction graph of the whole fabric (ClothLayout's xadj, adjncy become NULL): once the implicit matrix
+   exists and no cloth-cloth contact can grow its pattern, nothing reads it again, and every rank holds it whole (about
+   50 bytes per particle of the sheet; issue 25). ClothCreateMatrix fails after it. Not collective. */
+PetscErrorCode ClothReleaseGraph(Cloth cloth);
 /* Zeroes the constrained components of a vector of per-particle 3-vectors (v <- S v). Per particle,
    S = 0 when pinned or stuck, S = I - n n^T when held against a body with unit normal n (see
    ClothGetContactNormals), S = I when free. */

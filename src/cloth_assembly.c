@@ -382,12 +382,21 @@ static PetscErrorCode CountRowBlocks(Cloth cloth, PetscInt dnnz[], PetscInt onnz
   const PetscInt rend = cloth->rstart + cloth->nlocal;
 
   PetscFunctionBeginUser;
+  PetscCheck(cloth->xadj, cloth->comm, PETSC_ERR_ORDER, "ClothCreateMatrix after ClothReleaseGraph: the interaction graph is gone");
   for (PetscInt i = 0; i < cloth->nlocal; i++) {
     const PetscInt g = cloth->natural_of_local[i], row = cloth->rstart + i;
     dnnz[i] = dnnzu[i] = 1;
     onnz[i] = onnzu[i] = 0;
     for (PetscInt k = cloth->xadj[g]; k < cloth->xadj[g + 1]; k++) ClothCountRowBlock(cloth->rstart, rend, row, cloth->solver_of_natural[cloth->adjncy[k]], dnnz, onnz, dnnzu, onnzu);
   }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothReleaseGraph(Cloth cloth)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscFree(cloth->xadj));
+  PetscCall(PetscFree(cloth->adjncy));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

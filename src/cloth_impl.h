@@ -34,7 +34,8 @@ struct _n_Cloth {
   PetscInt      nangles_evaluated; /* every angle element of the model this rank evaluates, elastic or friction */
   PetscReal     gravity_scale;     /* 1, or 0 while seams are pulled together (sewing.h) */
   PetscReal     friction_scale;    /* multiplies body friction: 1, or sewing's pull_friction while seams are pulled */
-  PetscInt     *xadj, *adjncy;     /* natural-order adjacency, kept for preallocation */
+  PetscInt     *xadj, *adjncy;     /* natural-order adjacency, kept for preallocation (NULL after ClothReleaseGraph) */
+  PetscInt      nedges;            /* its edges, each counted once */
 
   Vec position, velocity, work_force, work_kv;
   Vec contact_normal;                                                 /* ghosted, bs 3: unit normal of each particle's contact constraint, 0 when free
