@@ -12,6 +12,13 @@ PetscErrorCode ClothBlockMatrixIsBlock(Mat A, PetscBool *block)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+PetscErrorCode ClothBlockMatrixIsUpper(Mat A, PetscBool *upper)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectTypeCompareAny((PetscObject)A, upper, MATSEQSBAIJ, MATMPISBAIJ, ""));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 /* PETSc 3.18 has no accessor for an MPISBAIJ matrix's parts. Its data begins with the same MPIBAIJHEADER as an
    MPIBAIJ matrix's (src/mat/impls/sbaij/mpi/mpisbaij.h: the diagonal part A, the off-process part B, garray), so
    MatMPIBAIJGetSeqBAIJ reads them while the type name says MPIBAIJ; the parts' types are checked after. */
@@ -61,7 +68,7 @@ PetscErrorCode ClothBlockRowsGet(Mat A, ClothBlockRows *rows)
   PetscCall(MatGetType(A, &type));
   PetscCheck(block && bs == BS, PetscObjectComm((PetscObject)A), PETSC_ERR_SUP, "Block rows of a %s matrix of block size %" PetscInt_FMT ": expected (s)baij of block size %d", type, bs, BS);
   PetscCall(PetscObjectTypeCompareAny((PetscObject)A, &mpi, MATMPIBAIJ, MATMPISBAIJ, ""));
-  PetscCall(PetscObjectTypeCompareAny((PetscObject)A, &rows->upper, MATSEQSBAIJ, MATMPISBAIJ, ""));
+  PetscCall(ClothBlockMatrixIsUpper(A, &rows->upper));
   rows->Ao = NULL, rows->garray = NULL, rows->ib = rows->jb = NULL, rows->vb = NULL;
   if (!mpi)
     rows->Ad = A;
@@ -139,7 +146,7 @@ PetscErrorCode ClothBlockMatrixSetUpOperations(Mat A)
   PetscBool sbaij;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscObjectTypeCompareAny((PetscObject)A, &sbaij, MATSEQSBAIJ, MATMPISBAIJ, ""));
+  PetscCall(ClothBlockMatrixIsUpper(A, &sbaij));
   if (sbaij) PetscCall(MatSetOperation(A, MATOP_INVERT_BLOCK_DIAGONAL, (void (*)(void))InvertDiagonalBlocksSBAIJ));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

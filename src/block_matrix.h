@@ -33,5 +33,8 @@ PetscErrorCode ClothBlockRowsGet(Mat A, ClothBlockRows *rows);
 PetscErrorCode ClothBlockRowsRestore(ClothBlockRows *rows);
 /* Does A store blocks that ClothBlockRowsGet reads? */
 PetscErrorCode ClothBlockMatrixIsBlock(Mat A, PetscBool *block);
+/* Does A store only the upper triangle of blocks (SEQSBAIJ or MPISBAIJ)? Compared by type, not by MatGetType's name,
+   which ClothBlockRowsGet renames for a moment. */
+PetscErrorCode ClothBlockMatrixIsUpper(Mat A, PetscBool *upper);
 /* An SBAIJ matrix gets MatInvertBlockDiagonal (point-block Jacobi); other types are left as they are. */
 PetscErrorCode ClothBlockMatrixSetUpOperations(Mat A);

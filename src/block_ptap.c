@@ -262,7 +262,7 @@ static PetscErrorCode PreallocateProducts(ClothBlockPtAP ptap, const ClothBlockR
   PetscCall(MatCreate(comm, &ptap->C));
   PetscCall(MatSetSizes(ptap->C, BS * (ptap->cend - ptap->cstart), BS * (ptap->cend - ptap->cstart), PETSC_DETERMINE, PETSC_DETERMINE));
   PetscCall(MatSetType(ptap->C, ctype));
-  PetscCall(PetscObjectTypeCompareAny((PetscObject)ptap->C, &ptap->cupper, MATSEQSBAIJ, MATMPISBAIJ, ""));
+  PetscCall(ClothBlockMatrixIsUpper(ptap->C, &ptap->cupper));
   PetscCall(MatSetBlockSize(ptap->C, BS));
   /* SBAIJ: the preallocation counts the upper blocks, and its zero fill (of every block added) keeps those only, as
      PETSc 3.18's SBAIJ ignores the lower triangle by default (set again for the products) */

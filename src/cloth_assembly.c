@@ -422,7 +422,7 @@ PetscErrorCode ClothCreateMatrix(Cloth cloth, MatType type, Mat *A)
   PetscCall(VecGetLocalToGlobalMapping(cloth->position, &l2g));
   PetscCall(MatSetLocalToGlobalMapping(*A, l2g, l2g));
   PetscCall(MatSetOption(*A, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
-  PetscCall(PetscObjectTypeCompareAny((PetscObject)*A, &sbaij, MATSBAIJ, MATSEQSBAIJ, MATMPISBAIJ, ""));
+  PetscCall(ClothBlockMatrixIsUpper(*A, &sbaij));
   PetscCall(ClothBlockMatrixSetUpOperations(*A));
   if (sbaij)
     PetscCall(MatSetOption(*A, MAT_IGNORE_LOWER_TRIANGULAR, PETSC_TRUE));

@@ -394,8 +394,7 @@ static PetscErrorCode RefreshGridOperators(ClothPreconditioner pre, PC pc, Mat A
   PetscFunctionBeginUser;
   PetscCall(ClothGridHierarchyGetLevels(pre->grid, &nlevels));
   PetscCall(ClothBlockMatrixIsBlock(P, &block));
-  /* not MatGetType's name: reading an MPISBAIJ matrix's parts renames it for a moment (block_matrix.c) */
-  PetscCall(PetscObjectTypeCompareAny((PetscObject)P, &sbaij, MATSEQSBAIJ, MATMPISBAIJ, ""));
+  PetscCall(ClothBlockMatrixIsUpper(P, &sbaij)); /* not MatGetType's name, which ClothBlockRowsGet renames for a moment */
   block_type = sbaij ? MATSBAIJ : MATBAIJ;
   for (PetscInt l = nlevels - 1; l > 0; l--) {
     PetscCall(ClothGridHierarchyGetInterpolation(pre->grid, l, &interpolation));
@@ -428,7 +427,7 @@ static PetscErrorCode UpdatePreconditioningMatrix(ClothPreconditioner pre, Mat A
     PetscFunctionReturn(PETSC_SUCCESS);
   }
   if (new_pattern) PetscCall(MatDestroy(&pre->P));
-  PetscCall(PetscObjectTypeCompareAny((PetscObject)A, &sbaij, MATSEQSBAIJ, MATMPISBAIJ, ""));
+  PetscCall(ClothBlockMatrixIsUpper(A, &sbaij));
   if (sbaij && pre->P) {
     /* PETSc 3.18's MatConvert of SEQSBAIJ with MAT_REUSE_MATRIX writes block-row offsets into the AIJ matrix's point
        rows (src/mat/impls/sbaij/seq/aijsbaij.c; GAMG's next product then overran the heap, seen with valgrind):
