@@ -114,7 +114,7 @@ static void ClothCountOwnInteractions(Cloth cloth, PetscMPIInt rank, PetscInt *n
 static PetscErrorCode ClothFindGhosts(Cloth cloth, PetscMPIInt rank)
 {
   const ClothModel m = cloth->model;
-  PetscInt         n = 0, nlinks, nangles, nelastic, nseam;
+  PetscInt         n = 0, nlinks, nangles, nelastic, nseam, *touched;
 
   PetscFunctionBeginUser;
   ClothCountOwnInteractions(cloth, rank, &nlinks, &nangles, &nelastic, &nseam);
@@ -132,6 +132,12 @@ static PetscErrorCode ClothFindGhosts(Cloth cloth, PetscMPIInt rank)
       for (PetscInt k = 0; k < ClothAngleParticleCount(m->angles[a].kind); k++)
         if (cloth->part[m->angles[a].p[k]] != rank) cloth->ghosts[n++] = cloth->solver_of_natural[m->angles[a].p[k]];
   PetscCall(PetscSortRemoveDupsInt(&n, cloth->ghosts));
+  /* the array above has room for every particle of every interaction (48 bytes per particle of the hanging sheet,
+     kept for the whole run): keep the ghosts alone */
+  touched = cloth->ghosts;
+  PetscCall(PetscMalloc1(n + 1, &cloth->ghosts));
+  PetscCall(PetscArraycpy(cloth->ghosts, touched, n));
+  PetscCall(PetscFree(touched));
   cloth->nghost = n;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
