@@ -21,18 +21,23 @@ struct _n_ClothIntegrator {
   PetscInt          max_halvings;
   PetscBool         view; /* -integrator_view: ClothIntegratorView at the end of the run */
   PetscBool         setup;
-  Vec               force, saved_position, saved_velocity, start_position, start_velocity;
-  ClothCollision    collision; /* borrowed; NULL: no bodies */
+  Vec               force, start_position, start_velocity; /* start_*: the state at the step's start */
+  /* the state at the start of a half step (created at the first halving: a run that never halves does not touch
+     them; a whole step's attempt saves into start_*) */
+  Vec            saved_position, saved_velocity;
+  PetscInt       depth;     /* halvings of the attempt under way (0: the whole step) */
+  ClothCollision collision; /* borrowed; NULL: no bodies */
   /* implicit only */
   Mat                 A;
-  MatType             mat_type;                    /* the implicit matrix's default storage (ClothPreconditionerGetMatType) */
-  KSP                 ksp, fallback_ksp;           /* fallback_ksp: redoes the solves whose preconditioner breaks down */
-  ClothPreconditioner pre;                         /* keeps ksp's preconditioner between steps */
-  Vec                 rhs, dv, dv_guess, start_dv; /* start_dv: dv at the step's start, put back when it fails */
-  PetscInt            pc_fallbacks;                /* solves redone with fallback_ksp */
-  char                failure[256];                /* why the last failed (sub-)step failed */
-  PetscInt            pc_retries;                  /* solves redone after a rebuild of a preconditioner kept from earlier steps */
-  PetscInt            max_it;                      /* the Krylov solve's iteration limit (-ksp_max_it) */
+  MatType             mat_type;          /* the implicit matrix's default storage (ClothPreconditionerGetMatType) */
+  KSP                 ksp, fallback_ksp; /* fallback_ksp: redoes the solves whose preconditioner breaks down */
+  ClothPreconditioner pre;               /* keeps ksp's preconditioner between steps */
+  Vec                 rhs, dv, start_dv; /* start_dv: dv at the step's start, put back when it fails */
+  Vec                 dv_guess;          /* a half step's warm start, kept for a solve redone (created at the first halving) */
+  PetscInt            pc_fallbacks;      /* solves redone with fallback_ksp */
+  char                failure[256];      /* why the last failed (sub-)step failed */
+  PetscInt            pc_retries;        /* solves redone after a rebuild of a preconditioner kept from earlier steps */
+  PetscInt            max_it;            /* the Krylov solve's iteration limit (-ksp_max_it) */
 };
 
 /* Is every entry of v finite? Collective. */
@@ -144,13 +149,13 @@ static PetscErrorCode CreateFallbackKSP(ClothIntegrator integ)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* KSPSolve from the warm start in dv_guess; its iterations are added to *its. */
-static PetscErrorCode SolveFromGuess(ClothIntegrator integ, KSP ksp, KSPConvergedReason *reason, PetscInt *its)
+/* KSPSolve from the warm start in guess; its iterations are added to *its. */
+static PetscErrorCode SolveFromGuess(ClothIntegrator integ, KSP ksp, Vec guess, KSPConvergedReason *reason, PetscInt *its)
 {
   PetscInt n;
 
   PetscFunctionBeginUser;
-  PetscCall(VecCopy(integ->dv_guess, integ->dv));
+  PetscCall(VecCopy(guess, integ->dv));
   PetscCall(KSPSolve(ksp, integ->rhs, integ->dv));
   PetscCall(KSPGetConvergedReason(ksp, reason));
   PetscCall(KSPGetIterationNumber(ksp, &n));
@@ -169,15 +174,20 @@ static PetscErrorCode SolveImplicitSystem(ClothIntegrator integ, Vec x, PetscRea
   ClothPCUpdate update;
   PetscBool     kept;
   PetscInt      last_its = 0, limit;
+  Vec           guess    = integ->start_dv; /* the whole step's attempt starts from the step's dv */
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(ClothLog.solve, 0, 0, 0, 0));
   *its = 0;
-  PetscCall(VecCopy(integ->dv, integ->dv_guess));
+  if (integ->depth > 0) {
+    if (!integ->dv_guess) PetscCall(VecDuplicate(integ->dv, &integ->dv_guess));
+    PetscCall(VecCopy(integ->dv, integ->dv_guess));
+    guess = integ->dv_guess;
+  }
   PetscCall(ClothPreconditionerPrepare(integ->pre, integ->A, x, h, &update));
   PetscCall(ClothPreconditionerIterationLimit(integ->pre, integ->max_it, &limit));
   PetscCall(KSPSetTolerances(integ->ksp, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT, limit));
-  PetscCall(SolveFromGuess(integ, integ->ksp, reason, &last_its));
+  PetscCall(SolveFromGuess(integ, integ->ksp, guess, reason, &last_its));
   PetscCall(ClothPreconditionerIsKept(integ->pre, &kept));
   if (*reason < 0 && kept && update != CLOTH_PC_REBUILD) {
     PetscCall(PetscInfo(NULL, "Solve with a preconditioner of earlier steps failed (%s after %" PetscInt_FMT " iterations); rebuilding it\n", KSPConvergedReasons[*reason], last_its));
@@ -187,7 +197,7 @@ static PetscErrorCode SolveImplicitSystem(ClothIntegrator integ, Vec x, PetscRea
     PetscCall(ClothPreconditionerRequestRebuild(integ->pre));
     PetscCall(ClothPreconditionerPrepare(integ->pre, integ->A, x, h, NULL));
     PetscCall(KSPSetTolerances(integ->ksp, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT, integ->max_it));
-    PetscCall(SolveFromGuess(integ, integ->ksp, reason, &last_its));
+    PetscCall(SolveFromGuess(integ, integ->ksp, guess, reason, &last_its));
     integ->pc_retries++;
   }
   *its += last_its;
@@ -196,7 +206,7 @@ static PetscErrorCode SolveImplicitSystem(ClothIntegrator integ, Vec x, PetscRea
     PetscCall(PetscInfo(NULL, "Preconditioner broke down (%s); solving again with the fallback solver\n", KSPConvergedReasons[*reason]));
     PetscCall(ClothPreconditionerRequestRebuild(integ->pre));
     PetscCall(KSPSetOperators(integ->fallback_ksp, integ->A, integ->A));
-    PetscCall(SolveFromGuess(integ, integ->fallback_ksp, reason, its));
+    PetscCall(SolveFromGuess(integ, integ->fallback_ksp, guess, reason, its));
     integ->pc_fallbacks++;
   }
   PetscCall(PetscLogEventEnd(ClothLog.solve, 0, 0, 0, 0));
@@ -322,7 +332,6 @@ static PetscErrorCode ClothIntegratorSetUpImplicit(ClothIntegrator integ)
   PetscCall(ClothPreconditionerGetMatType(integ->pre, &integ->mat_type));
   PetscCall(ClothCreateMatrix(integ->cloth, integ->mat_type, &integ->A));
   PetscCall(MatCreateVecs(integ->A, &integ->dv, NULL));
-  PetscCall(VecDuplicate(integ->dv, &integ->dv_guess));
   PetscCall(VecDuplicate(integ->dv, &integ->start_dv));
   PetscCall(ClothCreateStateVec(integ->cloth, &integ->rhs));
   PetscCall(CreateFallbackKSP(integ)); /* at set-up, so that -help lists its -fallback_ options */
@@ -335,8 +344,6 @@ PetscErrorCode ClothIntegratorSetUp(ClothIntegrator integ)
   PetscFunctionBeginUser;
   if (integ->setup) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(ClothCreateStateVec(integ->cloth, &integ->force));
-  PetscCall(ClothCreateStateVec(integ->cloth, &integ->saved_position));
-  PetscCall(ClothCreateStateVec(integ->cloth, &integ->saved_velocity));
   PetscCall(ClothCreateStateVec(integ->cloth, &integ->start_position));
   PetscCall(ClothCreateStateVec(integ->cloth, &integ->start_velocity));
   if (integ->step == StepImplicit) PetscCall(ClothIntegratorSetUpImplicit(integ));
@@ -368,14 +375,21 @@ static PetscErrorCode RestoreInternalState(ClothIntegrator integ, PetscInt slot)
 /* Takes one step of h; on failure restores the state and takes two steps of h/2 instead. */
 static PetscErrorCode StepOrHalve(ClothIntegrator integ, PetscReal h, PetscInt depth, PetscBool *ok, ClothStepStats *stats)
 {
-  Vec      x, v;
+  Vec      x, v, saved_x = integ->start_position, saved_v = integ->start_velocity; /* depth 0: the step's start */
   PetscInt its = 0;
 
   PetscFunctionBeginUser;
   PetscCall(ClothGetState(integ->cloth, &x, &v));
-  PetscCall(VecCopy(x, integ->saved_position));
-  PetscCall(VecCopy(v, integ->saved_velocity));
+  if (depth > 0) {
+    if (!integ->saved_position) PetscCall(ClothCreateStateVec(integ->cloth, &integ->saved_position));
+    if (!integ->saved_velocity) PetscCall(ClothCreateStateVec(integ->cloth, &integ->saved_velocity));
+    saved_x = integ->saved_position;
+    saved_v = integ->saved_velocity;
+    PetscCall(VecCopy(x, saved_x));
+    PetscCall(VecCopy(v, saved_v));
+  }
   PetscCall(SaveInternalState(integ, CLOTH_SLOT_ATTEMPT));
+  integ->depth = depth;
   PetscCall(UpdateSelfContact(integ, h));
   PetscCall(ClothBeginStep(integ->cloth, x)); /* the contributions' state at the (sub-)step's start: hysteresis sliders */
   integ->failure[0] = 0;
@@ -385,11 +399,11 @@ static PetscErrorCode StepOrHalve(ClothIntegrator integ, PetscReal h, PetscInt d
   stats->smallest_dt = PetscMin(stats->smallest_dt, h);
   if (*ok) {
     stats->substeps++;
-    if (integ->collision) PetscCall(ClothCollisionApply(integ->collision, integ->saved_position, h)); /* contacts of this sub-step */
+    if (integ->collision) PetscCall(ClothCollisionApply(integ->collision, saved_x, h)); /* contacts of this sub-step */
     PetscFunctionReturn(PETSC_SUCCESS);
   }
-  PetscCall(VecCopy(integ->saved_position, x));
-  PetscCall(VecCopy(integ->saved_velocity, v));
+  PetscCall(VecCopy(saved_x, x));
+  PetscCall(VecCopy(saved_v, v));
   PetscCall(RestoreInternalState(integ, CLOTH_SLOT_ATTEMPT));
   if (integ->dv) PetscCall(VecZeroEntries(integ->dv));
   if (depth >= integ->max_halvings) PetscFunctionReturn(PETSC_SUCCESS);
