@@ -339,8 +339,9 @@ PetscErrorCode ClothSetUp(Cloth cloth)
   PetscCall(ClothDistributeInteractions(cloth, rank));
   PetscCall(ClothDistributeParticles(cloth));
   PetscCall(ClothSetUpNaturalScatter(cloth));
-  PetscCall(ClothLogPhaseEnd(CLOTH_SETUP_DISTRIBUTE));
   cloth->setup = PETSC_TRUE;
+  PetscCall(ClothComputeRestMeasures(cloth));
+  PetscCall(ClothLogPhaseEnd(CLOTH_SETUP_DISTRIBUTE));
   for (size_t c = 0; c < PETSC_STATIC_ARRAY_LENGTH(ClothModelContributions); c++) PetscCall(ClothModelContributions[c](cloth));
   PetscCall(PetscLogEventEnd(ClothLog.setup, 0, 0, 0, 0));
   if (cloth->view_partition)
@@ -437,6 +438,7 @@ PetscErrorCode ClothDestroy(Cloth *cloth)
     PetscCall(PetscFree4(c->natural_of_local, c->mass, c->damping, c->fixed));
     PetscCall(PetscFree2(c->links, c->angles));
     PetscCall(PetscFree(c->link_params));
+    PetscCall(PetscFree2(c->thread_width, c->area));
   }
   PetscCall(VecDestroy(&c->position));
   PetscCall(VecDestroy(&c->velocity));

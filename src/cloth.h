@@ -235,11 +235,9 @@ PetscErrorCode ClothComputeStrain(Cloth cloth, Vec position, Vec strain);
    spacing of the threads beside it, as its stiffness E w / l0 takes it), so E times the strain for a linear
    fabric. position as for ClothComputeStrain. Collective. */
 PetscErrorCode ClothComputeStress(Cloth cloth, Vec position, Vec stress);
-/* The fabric area of every particle in natural order (nparticles entries): a quarter of each grid cell it is a
-   corner of, at the initial positions. Not collective. */
-PetscErrorCode ClothComputeParticleAreas(Cloth cloth, PetscReal area[]);
 /* Contact pressure, N/m^2: per particle the body's normal force on it (normal_force per owned particle, as
-   ClothCollisionGetNormalForces gives it; NULL: no bodies, all zero) over its fabric area. Collective. */
+   ClothCollisionGetNormalForces gives it; NULL: no bodies, all zero) over its fabric area (a quarter of each grid
+   cell it is a corner of, at the initial positions). Collective. */
 PetscErrorCode ClothComputeContactPressure(Cloth cloth, const PetscReal normal_force[], Vec pressure);
 /* Gravity is multiplied by scale (0 while seams are pulled together, 1 otherwise). */
 PetscErrorCode ClothSetGravityScale(Cloth cloth, PetscReal scale);

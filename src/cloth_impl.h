@@ -25,6 +25,8 @@ struct _n_Cloth {
   PetscInt  edge_cut;
 
   PetscReal    *mass, *damping; /* owned */
+  PetscReal    *thread_width;   /* owned and ghosts, 2 each: the fabric width a thread along u, along v carries there (cloth_strain.c) */
+  PetscReal    *area;           /* owned: the fabric area of each particle (cloth_strain.c) */
   PetscBool    *fixed;          /* owned and ghosts */
   PetscInt      nlinks, nangles;
   ClothLinkRef *links;       /* local particle indices and the index of their parameters in link_params */
@@ -46,3 +48,7 @@ struct _n_Cloth {
   Vec                         natural; /* layout of natural-order Vecs (no values of its own) */
   VecScatter                  to_natural;
 };
+
+/* The rest measures the fit maps need (thread_width, area), from the model's initial positions while they exist:
+   after them the fit maps read no per-particle data of the whole fabric (cloth_strain.c). */
+PETSC_INTERN PetscErrorCode ClothComputeRestMeasures(Cloth cloth);

@@ -6,7 +6,8 @@
    evaluated on the rank that evaluates its forces; a particle owned elsewhere gets the value through a MAX
    reduction of the ghosts. Pressure: the normal force a body exerts on the particle (collision.h) over the
    particle's fabric area (N/m^2): where the garment presses on the body. */
-#include "cloth.h"
+#include "cloth_impl.h"
+#include "model.h"
 #include "vec3.h"
 
 typedef enum {
@@ -72,8 +73,8 @@ static PetscReal ClothThreadWidth(const ClothLayout *layout, PetscInt a, PetscBo
   return n ? sum / n : 0;
 }
 
-/* The measure of one stretch link at positions xa, xb (natural ends a, b). */
-static PetscErrorCode ClothStretchLinkValue(const ClothLayout *layout, const ClothLink *link, PetscInt a, PetscInt b, PetscBool along_u, const PetscReal xa[3], const PetscReal xb[3], ClothStretchMeasure measure, PetscReal *value)
+/* The measure of one stretch link at positions xa, xb; wa, wb: the thread widths across it at its ends. */
+static PetscErrorCode ClothStretchLinkValue(const ClothLink *link, PetscReal wa, PetscReal wb, const PetscReal xa[3], const PetscReal xb[3], ClothStretchMeasure measure, PetscReal *value)
 {
   PetscReal d[3], f[3], l, width;
 
@@ -84,7 +85,7 @@ static PetscErrorCode ClothStretchLinkValue(const ClothLayout *layout, const Clo
     *value = (l - link->rest) / link->rest;
     PetscFunctionReturn(PETSC_SUCCESS);
   }
-  width  = 0.5 * (ClothThreadWidth(layout, a, along_u) + ClothThreadWidth(layout, b, along_u));
+  width  = 0.5 * (wa + wb);
   *value = 0;
   if (l == 0 || width == 0) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(ClothLinkEvaluate(link, xa, xb, PETSC_FALSE, NULL, f, NULL));
@@ -93,8 +94,8 @@ static PetscErrorCode ClothStretchLinkValue(const ClothLayout *layout, const Clo
 }
 
 /* Per local particle (owned and ghosts), 3 entries each: the largest measure of this rank's stretch links at
-   it, in all three entries; -PETSC_MAX_REAL where this rank has none. */
-static PetscErrorCode ClothStretchLocal(const ClothLayout *layout, const PetscScalar x[], ClothStretchMeasure measure, PetscScalar s[])
+   it, in all three entries; -PETSC_MAX_REAL where this rank has none. width: the cloth's thread_width. */
+static PetscErrorCode ClothStretchLocal(const ClothLayout *layout, const PetscReal width[], const PetscScalar x[], ClothStretchMeasure measure, PetscScalar s[])
 {
   PetscFunctionBeginUser;
   for (PetscInt i = 0; i < 3 * (layout->nlocal + layout->nghost); i++) s[i] = -PETSC_MAX_REAL;
@@ -111,7 +112,7 @@ static PetscErrorCode ClothStretchLocal(const ClothLayout *layout, const PetscSc
       xa[c] = PetscRealPart(x[3 * a + c]);
       xb[c] = PetscRealPart(x[3 * b + c]);
     }
-    PetscCall(ClothStretchLinkValue(layout, link, layout->natural_of_local[a], layout->natural_of_local[b], along_u, xa, xb, measure, &value));
+    PetscCall(ClothStretchLinkValue(link, width[2 * a + (along_u ? 0 : 1)], width[2 * b + (along_u ? 0 : 1)], xa, xb, measure, &value));
     for (PetscInt c = 0; c < 3; c++) {
       s[3 * a + c] = PetscMax(PetscRealPart(s[3 * a + c]), value);
       s[3 * b + c] = PetscMax(PetscRealPart(s[3 * b + c]), value);
@@ -152,12 +153,12 @@ static PetscErrorCode ClothComputeStretchField(Cloth cloth, Vec position, ClothS
   PetscCall(ClothGetLayout(cloth, &layout));
   PetscCall(VecGhostUpdateBegin(position, INSERT_VALUES, SCATTER_FORWARD));
   PetscCall(VecGhostUpdateEnd(position, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(ClothCreateStateVec(cloth, &work));
+  work = cloth->work_force; /* scratch of the force evaluations, free between them: no vector of the state's size more at output */
   PetscCall(VecGhostGetLocalForm(position, &position_local));
   PetscCall(VecGhostGetLocalForm(work, &work_local));
   PetscCall(VecGetArrayRead(position_local, &x));
   PetscCall(VecGetArrayWrite(work_local, &s));
-  PetscCall(ClothStretchLocal(&layout, x, measure, s));
+  PetscCall(ClothStretchLocal(&layout, cloth->thread_width, x, measure, s));
   PetscCall(VecRestoreArrayWrite(work_local, &s));
   PetscCall(VecRestoreArrayRead(position_local, &x));
   PetscCall(VecGhostRestoreLocalForm(work, &work_local));
@@ -170,7 +171,6 @@ static PetscErrorCode ClothComputeStretchField(Cloth cloth, Vec position, ClothS
     if (PetscRealPart(s[i]) == -PETSC_MAX_REAL) s[i] = 0;
   PetscCall(VecRestoreArray(work, &s));
   PetscCall(ClothScatterParticleValuesToNatural(cloth, work, field));
-  PetscCall(VecDestroy(&work));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -188,47 +188,55 @@ PetscErrorCode ClothComputeStress(Cloth cloth, Vec position, Vec stress)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode ClothComputeParticleAreas(Cloth cloth, PetscReal area[])
-{
-  ClothModel m;
-
-  PetscFunctionBeginUser;
-  PetscCall(ClothGetModel(cloth, &m));
-  PetscCall(PetscArrayzero(area, m->nparticles));
-  for (PetscInt q = 0; q < m->nquads; q++) {
-    const PetscInt *c = &m->quads[4 * q];
-    PetscReal       d1[3], d2[3], n[3], quarter;
-
-    Sub3(&m->position[3 * c[2]], &m->position[3 * c[0]], d1);
-    Sub3(&m->position[3 * c[3]], &m->position[3 * c[1]], d2);
-    Cross3(d1, d2, n);
-    quarter = 0.125 * PetscSqrtReal(Dot3(n, n)); /* a quad's area is half its diagonals' cross product */
-    for (PetscInt k = 0; k < 4; k++) area[c[k]] += quarter;
-  }
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
 PetscErrorCode ClothComputeContactPressure(Cloth cloth, const PetscReal normal_force[], Vec pressure)
 {
-  Vec          work;
+  Vec          work = cloth->work_force; /* as in ClothComputeStretchField */
   PetscScalar *p;
-  PetscReal   *area;
-  ClothLayout  layout;
 
   PetscFunctionBeginUser;
-  PetscCall(ClothGetLayout(cloth, &layout));
-  PetscCall(PetscMalloc1(layout.model->nparticles, &area));
-  PetscCall(ClothComputeParticleAreas(cloth, area));
-  PetscCall(ClothCreateStateVec(cloth, &work));
   PetscCall(VecGetArrayWrite(work, &p));
-  for (PetscInt i = 0; i < layout.nlocal; i++) {
-    const PetscReal a     = area[layout.natural_of_local[i]];
+  for (PetscInt i = 0; i < cloth->nlocal; i++) {
+    const PetscReal a     = cloth->area[i];
     const PetscReal value = normal_force && a > 0 ? normal_force[i] / a : 0;
     for (PetscInt c = 0; c < 3; c++) p[3 * i + c] = value;
   }
   PetscCall(VecRestoreArrayWrite(work, &p));
   PetscCall(ClothScatterParticleValuesToNatural(cloth, work, pressure));
-  PetscCall(VecDestroy(&work));
-  PetscCall(PetscFree(area));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Every owned particle's area: a quarter of each grid cell it is a corner of, at the initial positions. */
+static void ClothComputeParticleAreas(Cloth cloth, PetscMPIInt rank)
+{
+  const ClothModel m = cloth->model;
+
+  for (PetscInt i = 0; i < cloth->nlocal; i++) cloth->area[i] = 0;
+  for (PetscInt q = 0; q < m->nquads; q++) {
+    const PetscInt *c = &m->quads[4 * q];
+    PetscReal       d1[3], d2[3], n[3], quarter;
+
+    if (cloth->part[c[0]] != rank && cloth->part[c[1]] != rank && cloth->part[c[2]] != rank && cloth->part[c[3]] != rank) continue;
+    Sub3(&m->position[3 * c[2]], &m->position[3 * c[0]], d1);
+    Sub3(&m->position[3 * c[3]], &m->position[3 * c[1]], d2);
+    Cross3(d1, d2, n);
+    quarter = 0.125 * PetscSqrtReal(Dot3(n, n)); /* a quad's area is half its diagonals' cross product */
+    for (PetscInt k = 0; k < 4; k++)
+      if (cloth->part[c[k]] == rank) cloth->area[cloth->solver_of_natural[c[k]] - cloth->rstart] += quarter;
+  }
+}
+
+PetscErrorCode ClothComputeRestMeasures(Cloth cloth)
+{
+  const PetscInt nl = cloth->nlocal + cloth->nghost;
+  ClothLayout    layout;
+  PetscMPIInt    rank;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(cloth->comm, &rank));
+  PetscCall(ClothGetLayout(cloth, &layout));
+  PetscCall(PetscMalloc2(2 * nl, &cloth->thread_width, cloth->nlocal, &cloth->area));
+  for (PetscInt i = 0; i < nl; i++)
+    for (PetscInt d = 0; d < 2; d++) cloth->thread_width[2 * i + d] = ClothThreadWidth(&layout, cloth->natural_of_local[i], d == 0 ? PETSC_TRUE : PETSC_FALSE);
+  ClothComputeParticleAreas(cloth, rank);
   PetscFunctionReturn(PETSC_SUCCESS);
 }

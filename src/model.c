@@ -381,7 +381,8 @@ static PetscErrorCode ClothModelAllocate(Scene scene, ClothModel model)
   maxangles += maxseam;
   PetscCall(PetscMalloc1(maxseam + 1, &model->seamlinks));
   model->nparticles = model->piece_offset[scene->npieces];
-  PetscCall(PetscCalloc5(3 * model->nparticles, &model->position, model->nparticles, &model->mass, model->nparticles, &model->damping, model->nparticles, &model->pinned, 4 * ncells, &model->quads));
+  PetscCall(PetscCalloc4(3 * model->nparticles, &model->position, model->nparticles, &model->mass, model->nparticles, &model->damping, 4 * ncells, &model->quads));
+  PetscCall(PetscCalloc1(model->nparticles, &model->pinned)); /* apart: kept by ClothModelReleaseParticleData */
   PetscCall(PetscMalloc2(maxlinks, &model->links, maxangles, &model->angles));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -538,11 +539,19 @@ PetscErrorCode ClothModelReleaseInteractions(ClothModel model)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+PetscErrorCode ClothModelReleaseParticleData(ClothModel model)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscFree4(model->position, model->mass, model->damping, model->quads));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode ClothModelDestroy(ClothModel *model)
 {
   PetscFunctionBeginUser;
   if (!*model) PetscFunctionReturn(PETSC_SUCCESS);
-  PetscCall(PetscFree5((*model)->position, (*model)->mass, (*model)->damping, (*model)->pinned, (*model)->quads));
+  PetscCall(PetscFree4((*model)->position, (*model)->mass, (*model)->damping, (*model)->quads));
+  PetscCall(PetscFree((*model)->pinned));
   PetscCall(PetscFree2((*model)->links, (*model)->angles));
   PetscCall(PetscFree((*model)->piece_offset));
   PetscCall(PetscFree((*model)->seamlinks));

@@ -43,4 +43,9 @@ PetscErrorCode ClothModelGetAdjacency(ClothModel model, PetscInt **xadj, PetscIn
    longer needs them, and they are the largest part of the model that every rank holds whole (about 280 bytes per
    particle of the hanging sheet: 5.85 links of 48 bytes). Their pointers become NULL. */
 PetscErrorCode ClothModelReleaseInteractions(ClothModel model);
+/* Frees the initial positions, masses, damping coefficients and quads, keeping their counts, the pins and the pieces:
+   once the cloth holds its own share and its rest measures (ClothSetUp) and the output has the topology, only sewing
+   and cloth-cloth contact read them again (about 56 bytes per particle of the whole fabric on every rank). Their
+   pointers become NULL. */
+PetscErrorCode ClothModelReleaseParticleData(ClothModel model);
 PetscErrorCode ClothModelDestroy(ClothModel *model);

@@ -453,6 +453,21 @@ static PetscErrorCode ClothRunReleaseModelInteractions(ClothRun run)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* Once the output has the fabric's topology, the whole model's initial positions, masses, damping and quads go too
+   (the cloth keeps its own share and rest measures), unless sewing or cloth-cloth contact reads them later. */
+static PetscErrorCode ClothRunReleaseModelParticleData(ClothRun run)
+{
+  ClothModel       model;
+  ClothSelfContact attached;
+
+  PetscFunctionBeginUser;
+  PetscCall(ClothGetSelfContact(run->cloth, &attached));
+  if (run->sewing || attached) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(ClothGetModel(run->cloth, &model));
+  PetscCall(ClothModelReleaseParticleData(model));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode ClothRunSetUp(ClothRun run)
 {
   PetscFunctionBeginUser;
@@ -515,6 +530,7 @@ PetscErrorCode ClothRunSetUp(ClothRun run)
   if (!run->help) PetscCall(ClothRunOpenOutput(run));
   if (!run->help) PetscCall(ClothRunAddBodyMeshes(run));
   PetscCall(ClothLogPhaseEnd(CLOTH_SETUP_OUTPUT));
+  PetscCall(ClothRunReleaseModelParticleData(run));
   PetscCall(PetscLogStagePop());
   PetscFunctionReturn(PETSC_SUCCESS);
 }
