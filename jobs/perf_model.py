@@ -77,7 +77,12 @@ def parse(path):
     """The "Time steps" stage (time, flop total, messages total, average message length, reductions), the steps, the
     Krylov iterations, the particles and the neighbour ranks of each rank (-cloth_view_partition)."""
     run = {"path": path, "neighbours": []}
-    with open(path) as f:
+    try:
+        f = open(path)
+    except OSError as e:
+        print(f"perf_model.py: skipping {path}: {e.strerror}", file=sys.stderr)
+        return None
+    with f:
         for line in f:
             m = re.match(r"^\s*2:\s+Time steps:\s+(\S+)\s+\S+\s+(\S+)\s+\S+\s+(\S+)\s+\S+\s+(\S+)\s+\S+\s+(\S+)", line)
             if m:

@@ -13,3 +13,7 @@ clothsim_add_script_test(bench_driver check_bench.sh ${CMAKE_CURRENT_BINARY_DIR}
 
 # postprocess/cusick_convergence.py (drape coefficient against grid, jobs/validation.sh) on hand-made trial files.
 clothsim_add_script_test(postprocess_cusick_convergence check_cusick_convergence.sh ${CMAKE_CURRENT_BINARY_DIR}/postprocess_cusick_convergence)
+
+# The performance model (jobs/perf_model.py, docs/jobs.md) on its committed calibration runs.
+clothsim_add_script_test(perf_model_calibration check_perf_model.sh ${CMAKE_CURRENT_BINARY_DIR}/perf_model_calibration)
+set_tests_properties(perf_model_calibration PROPERTIES TIMEOUT 60)
