@@ -43,8 +43,12 @@ typedef struct {
 
 /* Appends one frame at (step, time): positions (natural order, 3 per particle), the fields of frame as
    datasets (and XDMF attributes of the fabric) and its counts as attributes of the frame's group;
-   rewrites the .xdmf so that it is complete after every frame. Collective. */
+   rewrites the .xdmf (always complete: through a temporary file) when -output_xdmf_seconds have passed since its
+   last rewrite. Collective. */
 PetscErrorCode ClothOutputWriteFrame(ClothOutput out, PetscInt step, PetscReal time, Vec position, const ClothOutputFrame *frame);
+/* Rewrites the .xdmf if it does not list every frame written yet (at a checkpoint, at the end; ClothOutputDestroy
+   does it too). Collective. */
+PetscErrorCode ClothOutputFlush(ClothOutput out);
 /* Adds a mesh that does not move (the mannequin): nverts points (coords: 3 per point) and ntris
    triangles (tris: 3 point indices each, 0-based), written once to NAME.h5:/static/<name>/{points,
    triangles} and shown as a grid <name> beside "fabric" in every frame of the .xdmf. Every rank passes

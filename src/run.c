@@ -730,7 +730,10 @@ PetscErrorCode ClothRunSolve(ClothRun run)
     run->substeps_total += stats.substeps;
     if (run->sewing) PetscCall(ClothSewingUpdate(run->sewing, run->time));
     if ((run->output_every > 0 && run->step % run->output_every == 0) || run->step == run->steps) PetscCall(ClothRunWriteFrame(run));
-    if (run->checkpoint_every > 0 && run->step % run->checkpoint_every == 0 && run->step < run->steps) PetscCall(ClothRunWriteCheckpoint(run));
+    if (run->checkpoint_every > 0 && run->step % run->checkpoint_every == 0 && run->step < run->steps) {
+      PetscCall(ClothOutputFlush(run->output)); /* the .xdmf lists every frame up to the checkpoint */
+      PetscCall(ClothRunWriteCheckpoint(run));
+    }
     /* rank 0's clock decides for all: the progress line is collective (the sewing status), and the
        ranks' clocks differ (under load, by more than a step: mismatched collectives, MPI_ERR_TRUNCATE) */
     print = run->progress_seconds <= 0 || WallTime() - last_print >= run->progress_seconds || run->step == run->steps;
@@ -742,6 +745,7 @@ PetscErrorCode ClothRunSolve(ClothRun run)
     PetscCall(TerminationRequested(run->comm, &stop));
   }
   PetscCall(PetscLogStagePop());
+  PetscCall(ClothOutputFlush(run->output));
   PetscCall(ClothRunWriteCheckpoint(run));
   if (!ok) PetscCall(ClothIntegratorGetFailure(run->integrator, &failure));
   PetscCheck(ok, run->comm, PETSC_ERR_NOT_CONVERGED, "Step %" PetscInt_FMT " failed even with the step halved down to %g s (%s); the last good state (step %" PetscInt_FMT ") is in %s", run->step + 1, (double)stats.smallest_dt, failure, run->step,

@@ -13,6 +13,11 @@ foreach(ranks 1 2 3)
   set_tests_properties(io_output_xdmf_np${ranks} PROPERTIES PROCESSORS ${ranks})
 endforeach()
 
+# The .xdmf rewritten at most every -output_xdmf_seconds, and at checkpoints and the end: the same frame list as a
+# rewrite after every frame (tests/drivers/check_xdmf_interval.sh, 2 ranks).
+clothsim_add_script_test(io_xdmf_interval check_xdmf_interval.sh ${MPIEXEC_EXECUTABLE} ${CMAKE_CURRENT_BINARY_DIR}/io_xdmf_interval)
+set_tests_properties(io_xdmf_interval PROPERTIES PROCESSORS 2 TIMEOUT 120)
+
 # An HDF5 open or create that fails on some ranks only (a file deleted between their opens) fails on all, without a
 # hang (tests/programs/test_h5_open_agreement.c; Open MPI's ompio hung, src/h5util.h): a hang meets the timeout.
 foreach(ranks 2 3)

@@ -43,6 +43,7 @@ robustness_case(checkpoint_keep_negative 2 1 ${sheet} "option -checkpoint_keep -
 robustness_case(gravity_ramp_inf 2 1 ${sheet} "option -gravity_ramp inf: expected a finite number >= 0 s" -- -gravity_ramp inf)
 robustness_case(progress_negative 2 1 ${sheet} "option -progress_seconds -1: expected a finite number >= 0 s" -- -progress_seconds -1)
 robustness_case(output_every_negative 2 1 ${sheet} "option -output_every -3: expected an integer >= 0" -- -output_every -3)
+robustness_case(output_xdmf_seconds_negative 2 1 ${sheet} "option -output_xdmf_seconds -1: expected a finite number >= 0 and <= 1e+08 s" -- -output_xdmf_seconds -1)
 robustness_case(output_dir_empty 2 1 ${sheet} "option -output_dir '': expected a directory name" -- -output_dir '')
 robustness_case(collision_cell_nan 2 1 input/sphere_drape.yaml "option -collision_cell_size nan: expected a finite number >= 0 m" -- -collision_cell_size nan)
 robustness_case(perturbation_inf 2 1 ${sheet} "option -cloth_perturbation inf: expected a finite number >= 0 m" -- -cloth_perturbation inf)
