@@ -43,6 +43,10 @@ clothsim_add_script_test(implicit_pc_fallback check_pc_fallback.sh ${MPIEXEC_EXE
 # by size and seams, lagged solves stopped at their limit and redone, and the block Galerkin product against the AIJ
 # copy's MatPtAP (-implicit_pc_grid_block_product false: same iterations, 1e-10 m). About 20 s on an idle machine.
 clothsim_add_script_test(implicit_multilevel_solver check_multilevel_solver.sh ${MPIEXEC_EXECUTABLE} ${CMAKE_CURRENT_BINARY_DIR}/implicit_multilevel_solver)
+# The garments' solver defaults (tests/drivers/check_garment_solver_defaults.sh, 2 ranks): rtol 1e-4 on the natural
+# norm for a scene with seams on point-block Jacobi, options override, sheets keep PETSc's defaults.
+clothsim_add_script_test(implicit_garment_solver_defaults check_garment_solver_defaults.sh ${MPIEXEC_EXECUTABLE} ${CMAKE_CURRENT_BINARY_DIR}/implicit_garment_solver_defaults)
+set_tests_properties(implicit_garment_solver_defaults PROPERTIES PROCESSORS 2 TIMEOUT 120)
 
 # The pattern-grid multigrid's levels (tests/programs/test_gridhierarchy.c): level sizes from the scene's grids, rows of every
 # interpolation summing to 1, a field linear in the grid indices in the range of every level's interpolation (relative
