@@ -7,8 +7,8 @@ set -euo pipefail
 
 # The main job: the fitted dress (princess-line bodice, half-circle skirt; input/dress_fitted_coarse.yaml, 2,646
 # particles 20 mm apart, drafted from the mannequin by jobs/dress_fitted_pattern.py) assembled on the mannequin on 2
-# ranks, to t = 5 s: the last strain transient (a strap's folded end) ends at t = 2.7 s, and by 5 s no particle moves
-# faster than 2.3 cm/s (docs/results.md, "The fitted dress"). Its finer versions are documented jobs
+# ranks, to t = 5 s: the last strain transient (a strap's folded end) ends at t = 2.7 s, and by 5 s the fastest particle
+# moves at a few cm/s (0.9-12 cm/s from run to run; docs/results.md, "The fitted dress"). Its finer versions are documented jobs
 # (jobs/dress_fitted.sh): the 8 mm one takes 7.2 min on 2 idle cores. Switch the scene (and options) here; results go
 # to output/NAME (NAME from the scene's "name:") or -output_dir. For a garment (a scene with seams) the run writes
 # quality.json, and this script completes it, renders front, side and back views shaded as cloth, front and back
