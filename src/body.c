@@ -1,6 +1,7 @@
 /* Body (see body.h). */
 #include "body.h"
 #include "geometry.h"
+#include "winding.h"
 #include "vec3.h"
 
 struct _n_Body {
@@ -12,6 +13,7 @@ struct _n_Body {
   PetscInt      boundary_edges; /* edges used by one triangle only (holes) */
   PetscInt      nonmanifold_edges;
   PetscBool     flipped; /* the file's triangles were oriented inwards */
+  WindingTree   winding; /* the inside test (mesh bodies) */
 };
 
 /* x <- R (scale x) + t with R = Rz Ry Rx (angles in degrees: about x first, then y, then z). */
@@ -125,6 +127,7 @@ PetscErrorCode BodyCreate(MPI_Comm comm, const SceneBody *description, const cha
     PetscCall(PlaceVertices(description, &b->mesh));
     PetscCall(OrientAndMeasure(b));
     PetscCall(CountOpenEdges(b));
+    PetscCall(WindingTreeCreate(b->mesh.ntris, b->mesh.tris, b->mesh.coords, &b->winding));
   }
   *body = b;
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -170,39 +173,20 @@ PetscErrorCode BodySignedDistance(Body body, const PetscReal x[3], PetscReal *di
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* Solid angle of triangle (a, b, c) seen from x (Van Oosterom & Strackee 1983), signed by orientation. */
-static PetscReal TriangleSolidAngle(const PetscReal x[3], const PetscReal a[3], const PetscReal b[3], const PetscReal c[3])
-{
-  PetscReal p[3], q[3], r[3], qr[3], lp, lq, lr, numerator, denominator;
-
-  Sub3(a, x, p);
-  Sub3(b, x, q);
-  Sub3(c, x, r);
-  lp = PetscSqrtReal(Dot3(p, p));
-  lq = PetscSqrtReal(Dot3(q, q));
-  lr = PetscSqrtReal(Dot3(r, r));
-  Cross3(q, r, qr);
-  numerator   = Dot3(p, qr);
-  denominator = lp * lq * lr + Dot3(p, q) * lr + Dot3(p, r) * lq + Dot3(q, r) * lp;
-  return 2 * PetscAtan2Real(numerator, denominator);
-}
-
 PetscErrorCode BodyWindingNumber(Body body, const PetscReal x[3], PetscReal *winding)
 {
-  const MeshTriangles *m   = &body->mesh;
-  PetscReal            sum = 0;
+  const MeshTriangles *m = &body->mesh;
 
   PetscFunctionBeginUser;
   PetscCheck(body->description.type == SCENE_BODY_MESH, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONG, "Body '%s' is not a mesh", body->description.name);
-  for (PetscInt t = 0; t < m->ntris; t++) sum += TriangleSolidAngle(x, &m->coords[3 * m->tris[3 * t]], &m->coords[3 * m->tris[3 * t + 1]], &m->coords[3 * m->tris[3 * t + 2]]);
+  *winding = WindingNumberExact(m->ntris, m->tris, m->coords, x);
   PetscCall(PetscLogFlops(60.0 * m->ntris));
-  *winding = sum / (4 * PETSC_PI);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 PetscErrorCode BodyIsInside(Body body, const PetscReal x[3], PetscBool *inside)
 {
-  PetscReal d, n[3], w;
+  PetscReal d, n[3];
 
   PetscFunctionBeginUser;
   *inside = PETSC_FALSE;
@@ -213,8 +197,7 @@ PetscErrorCode BodyIsInside(Body body, const PetscReal x[3], PetscBool *inside)
   }
   for (PetscInt k = 0; k < 3; k++)
     if (x[k] < body->lo[k] || x[k] > body->hi[k]) PetscFunctionReturn(PETSC_SUCCESS);
-  PetscCall(BodyWindingNumber(body, x, &w));
-  *inside = w > 0.5 ? PETSC_TRUE : PETSC_FALSE;
+  PetscCall(WindingTreeIsInside(body->winding, x, inside, NULL));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -268,6 +251,7 @@ PetscErrorCode BodyDestroy(Body *body)
 {
   PetscFunctionBeginUser;
   if (!*body) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(WindingTreeDestroy(&(*body)->winding));
   if ((*body)->description.type == SCENE_BODY_MESH) PetscCall(MeshTrianglesFree(&(*body)->mesh));
   PetscCall(PetscFree((*body)->face_normal));
   PetscCall(PetscFree(*body));
