@@ -61,11 +61,6 @@ struct _n_ClothOutput {
   PetscInt          xdmf_frames;     /* frames the .xdmf on disk lists */
 };
 
-/* The default -output_xdmf_seconds. The .xdmf lists every frame and is rewritten whole (through a temporary file
-   and fsync, so that ParaView never reads half of it): rewriting it after every frame cost time quadratic in the
-   frames, 2.0 of the main job's 2.4 s of output at 251 frames (docs/performance.md). */
-#define OUTPUT_DEFAULT_XDMF_SECONDS 10.0
-
 typedef char OutputGroupName[CLOTH_NAME_LEN];
 
 /* Frames with a time above restart_time by more than this (relative) are dropped on restart. */
@@ -305,6 +300,14 @@ static PetscErrorCode OutputWriteXdmfIfDue(ClothOutput out)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+PetscErrorCode ClothOutputSetXdmfInterval(ClothOutput out, PetscReal seconds)
+{
+  PetscFunctionBeginUser;
+  PetscCall(ClothOptionsCheckReal(out->comm, "-output_xdmf_seconds", seconds, 0, PETSC_FALSE, 1e8, "s"));
+  out->xdmf_seconds = seconds;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode ClothOutputFlush(ClothOutput out)
 {
   PetscFunctionBeginUser;
@@ -366,12 +369,7 @@ PetscErrorCode ClothOutputCreate(MPI_Comm comm, const char dir[], const char nam
   o->nparticles   = topology->nparticles;
   o->nquads       = topology->nquads;
   o->run_id       = topology->run_id;
-  o->xdmf_seconds = OUTPUT_DEFAULT_XDMF_SECONDS;
-  PetscOptionsBegin(o->comm, NULL, "Output series", "ClothOutput");
-  PetscCall(PetscOptionsReal("-output_xdmf_seconds", "Wall seconds between rewrites of NAME.xdmf (the frames' list; 0: after every frame); it is also rewritten at every checkpoint and at the end, the frames' data go to NAME.h5 at once",
-                             "ClothOutputWriteFrame", o->xdmf_seconds, &o->xdmf_seconds, NULL));
-  PetscOptionsEnd();
-  PetscCall(ClothOptionsCheckReal(o->comm, "-output_xdmf_seconds", o->xdmf_seconds, 0, PETSC_FALSE, 1e8, "s"));
+  o->xdmf_seconds = CLOTH_OUTPUT_XDMF_SECONDS;
   PetscCall(ClothFileMakeDirectory(o->comm, dir));
   PetscCall(OutputSetUpFile(o, topology, restart_time));
   PetscCall(OutputWriteXdmf(o));

@@ -46,6 +46,14 @@ typedef struct {
    rewrites the .xdmf (always complete: through a temporary file) when -output_xdmf_seconds have passed since its
    last rewrite. Collective. */
 PetscErrorCode ClothOutputWriteFrame(ClothOutput out, PetscInt step, PetscReal time, Vec position, const ClothOutputFrame *frame);
+/* The default wall time between rewrites of the .xdmf (-output_xdmf_seconds). The .xdmf lists every frame and is
+   rewritten whole (through a temporary file and fsync, so that ParaView never reads half of it): rewriting it after
+   every frame cost time quadratic in the frames, 2.0 of the main job's 2.4 s of output at 251 frames
+   (docs/performance.md). */
+#define CLOTH_OUTPUT_XDMF_SECONDS 10.0
+/* Rewrite the .xdmf at most every seconds of wall time (0: after every frame); >= 0. Not collective (every rank
+   passes the same value). */
+PetscErrorCode ClothOutputSetXdmfInterval(ClothOutput out, PetscReal seconds);
 /* Rewrites the .xdmf if it does not list every frame written yet (at a checkpoint, at the end; ClothOutputDestroy
    does it too). Collective. */
 PetscErrorCode ClothOutputFlush(ClothOutput out);

@@ -39,6 +39,7 @@ struct _n_ClothRun {
   uint64_t  run_id;            /* this run's identity in its checkpoints; a restart continues its checkpoint's */
   char      output_dir[CLOTH_PATH_LEN];
   PetscInt  output_every, checkpoint_every, checkpoint_keep;
+  PetscReal xdmf_seconds; /* -output_xdmf_seconds */
   char      restart[CLOTH_PATH_LEN];
   PetscReal progress_seconds;
   PetscBool monitor_energy;
@@ -86,6 +87,7 @@ PetscErrorCode ClothRunCreate(MPI_Comm comm, Scene scene, ClothRun *run)
   r->t_final          = scene->run.t_final > 0 ? scene->run.t_final : 1.0;
   r->steps            = scene->run.steps;
   r->output_every     = scene->run.output_every > 0 ? scene->run.output_every : 10;
+  r->xdmf_seconds     = CLOTH_OUTPUT_XDMF_SECONDS;
   r->checkpoint_every = scene->run.checkpoint_every;
   r->checkpoint_keep  = 2;
   r->output_lock      = -1;
@@ -163,6 +165,8 @@ PetscErrorCode ClothRunSetFromOptions(ClothRun run)
   PetscCall(PetscOptionsString("-output_dir", "Directory for the XDMF series and checkpoints", "ClothRunSetUp", run->output_dir, run->output_dir, sizeof(run->output_dir), NULL));
   PetscCall(PetscOptionsBool("-output_overwrite", "A new run may replace the results already in -output_dir (otherwise refused; -restart continues them)", "ClothRunSetUp", run->output_overwrite, &run->output_overwrite, NULL));
   PetscCall(PetscOptionsInt("-output_every", "Write an XDMF frame every K steps (0: only the first and last)", "ClothRunSolve", run->output_every, &run->output_every, NULL));
+  PetscCall(PetscOptionsReal("-output_xdmf_seconds", "Wall seconds between rewrites of NAME.xdmf, the frames' list (0: after every frame); also rewritten at every checkpoint and at the end; each frame's data reach NAME.h5 at once",
+                             "ClothOutputSetXdmfInterval", run->xdmf_seconds, &run->xdmf_seconds, NULL));
   PetscCall(PetscOptionsInt("-checkpoint_every", "Write a checkpoint every K steps (0: only at the end)", "ClothRunSolve", run->checkpoint_every, &run->checkpoint_every, NULL));
   PetscCall(PetscOptionsInt("-checkpoint_keep", "Keep only the newest N checkpoints of this run (0: keep all)", "ClothCheckpointWrite", run->checkpoint_keep, &run->checkpoint_keep, NULL));
   PetscCall(PetscOptionsString("-restart", "Continue from this checkpoint (any number of ranks)", "ClothRunSetUp", run->restart, run->restart, sizeof(run->restart), NULL));
@@ -177,6 +181,7 @@ PetscErrorCode ClothRunSetFromOptions(ClothRun run)
   PetscCall(ClothOptionsCheckReal(run->comm, "-gravity_ramp", run->gravity_ramp, 0, PETSC_FALSE, PETSC_MAX_REAL, "s"));
   PetscCall(ClothOptionsCheckReal(run->comm, "-progress_seconds", run->progress_seconds, 0, PETSC_FALSE, PETSC_MAX_REAL, "s"));
   PetscCall(ClothOptionsCheckReal(run->comm, "-io_timeout", io_timeout, 0, PETSC_FALSE, 1e8, "s"));
+  PetscCall(ClothOptionsCheckReal(run->comm, "-output_xdmf_seconds", run->xdmf_seconds, 0, PETSC_FALSE, 1e8, "s"));
   PetscCall(ClothWatchdogSetTimeout(io_timeout));
   PetscCheck(!(run->gravity_ramp > 0 && run->scene->nseams > 0), run->comm, PETSC_ERR_USER_INPUT, "-gravity_ramp cannot be used with seams: the sewing phases switch gravity themselves");
   PetscCall(ClothOptionsCheckInt(run->comm, "-steps", run->steps, 0, PETSC_MAX_INT));
@@ -361,6 +366,7 @@ static PetscErrorCode ClothRunOpenOutput(ClothRun run)
   topo.run_id     = run->run_id;
   topo.scene      = run->scene;
   PetscCall(ClothOutputCreate(run->comm, run->output_dir, run->scene->name, &topo, run->restart[0] ? run->time : -1.0, &run->output));
+  PetscCall(ClothOutputSetXdmfInterval(run->output, run->xdmf_seconds));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
