@@ -21,7 +21,6 @@
 #include <errno.h>
 #include <string.h>
 #include "output.h"
-#include "options.h"
 #include "fileutil.h"
 #include "h5util.h"
 #include "provenance.h"
@@ -289,11 +288,9 @@ static PetscErrorCode OutputWriteXdmf(ClothOutput out)
    the rewrite is collective). */
 static PetscErrorCode OutputWriteXdmfIfDue(ClothOutput out)
 {
-  int         due;
-  PetscMPIInt rank;
+  int due;
 
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_rank(out->comm, &rank));
   due = out->xdmf_seconds <= 0 || out->xdmf_frames == 0 || MPI_Wtime() - out->xdmf_written_at >= out->xdmf_seconds;
   PetscCallMPI(MPI_Bcast(&due, 1, MPI_INT, 0, out->comm));
   if (due) PetscCall(OutputWriteXdmf(out));
@@ -303,7 +300,7 @@ static PetscErrorCode OutputWriteXdmfIfDue(ClothOutput out)
 PetscErrorCode ClothOutputSetXdmfInterval(ClothOutput out, PetscReal seconds)
 {
   PetscFunctionBeginUser;
-  PetscCall(ClothOptionsCheckReal(out->comm, "-output_xdmf_seconds", seconds, 0, PETSC_FALSE, 1e8, "s"));
+  PetscCheck(seconds >= 0, out->comm, PETSC_ERR_ARG_OUTOFRANGE, "ClothOutputSetXdmfInterval: %g s, expected >= 0 (-output_xdmf_seconds is checked where it is read)", (double)seconds);
   out->xdmf_seconds = seconds;
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -25,7 +25,7 @@ struct _n_WindingTree {
   const PetscReal *coords;
   PetscInt        *order;    /* triangle indices, each node's contiguous */
   PetscReal       *centroid; /* 3 per triangle */
-  PetscReal       *key;      /* sort keys, scratch of the build */
+  PetscReal       *key;      /* sort keys, scratch of the build (NULL after it) */
   WindingNode     *nodes;
   PetscInt         nnodes;
 };
@@ -136,12 +136,14 @@ PetscErrorCode WindingTreeCreate(PetscInt ntris, const PetscInt tris[], const Pe
   t->tris   = tris;
   t->coords = coords;
   /* a binary tree whose leaves hold at least one triangle has fewer than 2 ntris nodes */
-  PetscCall(PetscMalloc4(ntris, &t->order, 3 * ntris, &t->centroid, ntris, &t->key, 2 * ntris + 1, &t->nodes));
+  PetscCall(PetscMalloc3(ntris, &t->order, 3 * ntris, &t->centroid, 2 * ntris + 1, &t->nodes));
+  PetscCall(PetscMalloc1(ntris, &t->key));
   for (PetscInt i = 0; i < ntris; i++) {
     t->order[i] = i;
     for (PetscInt k = 0; k < 3; k++) t->centroid[3 * i + k] = (Vertex(t, i, 0)[k] + Vertex(t, i, 1)[k] + Vertex(t, i, 2)[k]) / 3;
   }
   if (ntris > 0) PetscCall(BuildNode(t, 0, ntris, 0, &root));
+  PetscCall(PetscFree(t->key));
   *tree = t;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -194,7 +196,7 @@ PetscErrorCode WindingTreeDestroy(WindingTree *tree)
 {
   PetscFunctionBeginUser;
   if (!*tree) PetscFunctionReturn(PETSC_SUCCESS);
-  PetscCall(PetscFree4((*tree)->order, (*tree)->centroid, (*tree)->key, (*tree)->nodes));
+  PetscCall(PetscFree3((*tree)->order, (*tree)->centroid, (*tree)->nodes));
   PetscCall(PetscFree(*tree));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
