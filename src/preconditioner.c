@@ -3,6 +3,7 @@
 #include "gridhierarchy.h"
 #include "block_ptap.h"
 #include "block_matrix.h"
+#include "seam_blocks.h"
 
 /* The default preconditioner (docs/performance.md, "Pattern-grid multigrid"):
    - a scene without seams (sheets, drapes): the pattern-grid multigrid from CLOTH_PC_GRID_MIN_PARTICLES particles on.
@@ -166,6 +167,7 @@ PetscErrorCode ClothPreconditionerCreate(KSP ksp, Cloth cloth, ClothPrecondition
   PC                  pc;
   PetscInt            min_particles = CLOTH_PC_MULTILEVEL_MIN_PARTICLES, grid_min_particles = CLOTH_PC_GRID_MIN_PARTICLES, nparticles;
   ClothLayout         layout;
+  PetscBool           seam_blocks = PETSC_TRUE;
 
   PetscFunctionBeginUser;
   PetscCall(ClothGetSizes(cloth, NULL, &nparticles));
@@ -187,13 +189,19 @@ PetscErrorCode ClothPreconditionerCreate(KSP ksp, Cloth cloth, ClothPrecondition
                             grid_min_particles, &grid_min_particles, NULL));
   PetscCall(PetscOptionsInt("-implicit_pc_multilevel_min_particles", "Default preconditioner of a garment (a scene with seams): GAMG from this many particles on, point-block Jacobi below (-pc_type overrides)", "ClothPreconditionerCreate",
                             min_particles, &min_particles, NULL));
+  PetscCall(PetscOptionsBool("-implicit_pc_seam_blocks", "Default preconditioner of a garment below -implicit_pc_multilevel_min_particles: point-block Jacobi with each sewn node and its partner in one block (false: every particle its own block)",
+                             "ClothSeamBlocksCreate", seam_blocks, &seam_blocks, NULL));
   PetscOptionsEnd();
   PetscCall(KSPGetPC(ksp, &pc));
   if (layout.model->nseamlinks == 0 && nparticles >= grid_min_particles)
     PetscCall(PCSetType(pc, PCMG));
   else if (nparticles >= min_particles)
     PetscCall(PCSetType(pc, PCGAMG));
-  else
+  else if (seam_blocks && layout.model->nseamlinks > 0) {
+    ClothSeamBlocks sb;
+    PetscCall(ClothSeamBlocksCreate(cloth, &sb));
+    PetscCall(ClothSeamBlocksSetPC(sb, pc));
+  } else
     PetscCall(PCSetType(pc, PCPBJACOBI));
   *pre = p;
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -251,6 +259,15 @@ static PetscErrorCode SetUpGridMultigrid(ClothPreconditioner pre, PC pc)
      seams to 0.63 mm. */
 #define CLOTH_PC_GARMENT_RTOL 1e-4
 
+/* Point-block Jacobi, or its seam-block form (seam_blocks.h). */
+static PetscErrorCode IsPointBlockJacobi(PC pc, PetscBool *is)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectTypeCompare((PetscObject)pc, PCPBJACOBI, is));
+  if (!*is) PetscCall(ClothSeamBlocksIsPC(pc, is));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 static PetscErrorCode SetGarmentSolverDefaults(ClothPreconditioner pre, PC pc)
 {
   PetscBool   pbjacobi, norm_set, rtol_set;
@@ -258,7 +275,7 @@ static PetscErrorCode SetGarmentSolverDefaults(ClothPreconditioner pre, PC pc)
   const char *prefix;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscObjectTypeCompare((PetscObject)pc, PCPBJACOBI, &pbjacobi));
+  PetscCall(IsPointBlockJacobi(pc, &pbjacobi));
   PetscCall(ClothGetLayout(pre->cloth, &layout));
   if (!pbjacobi || layout.model->nseamlinks == 0) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(KSPGetOptionsPrefix(pre->ksp, &prefix));
@@ -332,7 +349,8 @@ PetscErrorCode ClothPreconditionerGetMatType(ClothPreconditioner pre, MatType *t
 
   PetscFunctionBeginUser;
   PetscCall(KSPGetPC(pre->ksp, &pc));
-  PetscCall(PetscObjectTypeCompareAny((PetscObject)pc, &takes_block, PCMG, PCPBJACOBI, ""));
+  PetscCall(PetscObjectTypeCompare((PetscObject)pc, PCMG, &takes_block));
+  if (!takes_block) PetscCall(IsPointBlockJacobi(pc, &takes_block));
   PetscCall(ClothGetSizes(pre->cloth, NULL, &nparticles));
   *type = takes_block && nparticles >= CLOTH_SBAIJ_MIN_PARTICLES ? MATSBAIJ : MATBAIJ;
   PetscFunctionReturn(PETSC_SUCCESS);
