@@ -120,12 +120,18 @@ PetscErrorCode ClothElementSinkAdd(ClothElementSink ev, ClothElement *e)
   if (ev->force)
     for (PetscInt k = 0; k < e->np; k++)
       for (PetscInt c = 0; c < 3; c++) ev->force[3 * e->p[k] + c] += e->force[3 * k + c];
-  if (ev->kv)
-    for (PetscInt r = 0; r < n; r++) {
-      PetscReal sum = 0;
-      for (PetscInt q = 0; q < n; q++) sum += e->H[n * r + q] * ev->velocity[3 * e->p[q / 3] + q % 3];
-      ev->kv[3 * e->p[r / 3] + r % 3] += sum;
-    }
+  if (ev->kv) { /* the element's velocities gathered once, its K v scattered once */
+    PetscReal ve[3 * CLOTH_ELEMENT_MAX_PARTICLES];
+    for (PetscInt k = 0; k < e->np; k++)
+      for (PetscInt c = 0; c < 3; c++) ve[3 * k + c] = ev->velocity[3 * e->p[k] + c];
+    for (PetscInt k = 0; k < e->np; k++)
+      for (PetscInt c = 0; c < 3; c++) {
+        const PetscReal *row = &e->H[n * (3 * k + c)];
+        PetscReal        sum = 0;
+        for (PetscInt q = 0; q < n; q++) sum += row[q] * ve[q];
+        ev->kv[3 * e->p[k] + c] += sum;
+      }
+  }
   if (ev->A) {
     /* Filter: constrained directions drop out (I - S goes on the diagonal, AddDiagonalBlocks). */
     FilterElementStiffness(ev->cloth, ev->normal, ev->h2, e);

@@ -461,6 +461,13 @@ PetscErrorCode ClothIntegratorViewSystem(ClothIntegrator integ, PetscViewer view
   PetscCall(MatGetBlockSize(integ->A, &bs));
   PetscCall(KSPGetPC(integ->ksp, &pc));
   PetscCall(PCGetType(pc, &pctype));
+  {
+    PetscBool   shell;
+    const char *name = NULL;
+    PetscCall(PetscObjectTypeCompare((PetscObject)pc, PCSHELL, &shell));
+    if (shell) PetscCall(PCShellGetName(pc, &name));
+    if (name) pctype = name; /* seam-block Jacobi */
+  }
   /* nz_used counts stored scalars (one triangle for SBAIJ): what every matrix pass streams */
   PetscCall(PetscViewerASCIIPrintf(viewer, "Implicit system: %s, %" PetscInt_FMT " stored %" PetscInt_FMT "x%" PetscInt_FMT " blocks (%.1f MiB of values), preconditioner %s\n", mtype, (PetscInt)(info.nz_used / (bs * bs)), bs, bs,
                                    info.nz_used * sizeof(PetscScalar) / 1048576.0, pctype));

@@ -12,8 +12,10 @@
    - a garment (seams): GAMG from CLOTH_PC_MULTILEVEL_MIN_PARTICLES on. On the dress (2,478 particles) the grid
      multigrid takes 84 iterations a step against point-block Jacobi's 219 but 2.3x its wall time: the pieces are
      small and the stiff seams couple them only on the finest level, so the coarse levels help little.
-   - point-block Jacobi below. GAMG on the hanging sheet: 1.4x point-block Jacobi's wall time at 65 x 65, about the
-     same at 129 x 129, 1.8-1.9x less at 257 x 257. */
+   - point-block Jacobi below; for a garment its seam-block form (seam_blocks.h, -implicit_pc_seam_blocks), which inverts
+     each sewn node with its partner: on the main job 144,250 Krylov iterations against 210,757, 8-13 % less wall time
+     (docs/performance.md, "Seam-block Jacobi"). GAMG on the hanging sheet: 1.4x point-block Jacobi's wall time at
+     65 x 65, about the same at 129 x 129, 1.8-1.9x less at 257 x 257. */
 #define CLOTH_PC_GRID_MIN_PARTICLES 2500
 #define CLOTH_PC_MULTILEVEL_MIN_PARTICLES 40000
 
