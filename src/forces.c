@@ -76,7 +76,8 @@ void ClothAngleArms(ClothAngleKind kind, PetscReal A[CLOTH_ANGLE_MAX_PARTICLES],
   }
 }
 
-/* c = a.b / (|a||b|), its gradient g = (dc/da, dc/db) and Hessian Hc (6x6, row-major). */
+/* c = a.b / (|a||b|), its gradient g = (dc/da, dc/db) and Hessian Hc (6x6, row-major; NULL: not wanted, as for forces
+   alone and the Gauss-Newton stiffness, which needs only g). */
 static void NormalizedDot(const PetscReal a[3], const PetscReal b[3], PetscReal *c, PetscReal g[6], PetscReal Hc[36])
 {
   const PetscReal na2 = Dot3(a, a), nb2 = Dot3(b, b), na = PetscSqrtReal(na2), nb = PetscSqrtReal(nb2);
@@ -87,6 +88,7 @@ static void NormalizedDot(const PetscReal a[3], const PetscReal b[3], PetscReal 
     g[i]     = (b[i] - d * a[i] / na2) * inv;
     g[3 + i] = (a[i] - d * b[i] / nb2) * inv;
   }
+  if (!Hc) return;
   for (PetscInt i = 0; i < 3; i++) {
     for (PetscInt j = 0; j < 3; j++) {
       const PetscReal delta = (i == j) ? 1.0 : 0.0;
@@ -231,7 +233,7 @@ PetscErrorCode ClothAngleEvaluate(const ClothAngle *angle, const PetscReal *cons
     PetscFunctionReturn(PETSC_SUCCESS);
   }
   AngleArmVectors(angle, x, A, B, a, b);
-  NormalizedDot(a, b, &c, g, Hc);
+  NormalizedDot(a, b, &c, g, (H && form != CLOTH_STIFFNESS_GAUSS_NEWTON) ? Hc : NULL);
   s = PetscSqrtReal(PetscMax(1.0 - c * c, 0.0));
   /* E = k (1 - c c0 - s s0) with s = sqrt(1 - c^2) */
   if (energy) *energy = angle->k * (1.0 - c * angle->cos0 - s * angle->sin0);
