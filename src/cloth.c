@@ -444,6 +444,7 @@ PetscErrorCode ClothDestroy(Cloth *cloth)
   PetscCall(VecDestroy(&c->velocity));
   PetscCall(VecDestroy(&c->work_force));
   PetscCall(VecDestroy(&c->work_kv));
+  PetscCall(PetscFree2(c->filter, c->filtered));
   PetscCall(VecDestroy(&c->contact_normal));
   PetscCall(VecDestroy(&c->natural));
   PetscCall(VecScatterDestroy(&c->to_natural));

@@ -17,6 +17,8 @@ typedef struct _n_ClothElementSink {
   PetscBool          energy_wanted;
   PetscReal          energy;
   PetscBool          psd;       /* clamp the links' stiffness to its positive semidefinite part */
+  const PetscReal   *filter;    /* each local particle's S (9 values), when A is wanted */
+  const PetscBool   *filtered;  /* ... and whether it differs from I */
   ClothStiffness     stiffness; /* form of the angle and twist elements' stiffness */
   const PetscScalar *normal;    /* contact normals, local form (NULL: no contacts) */
 } ClothEvaluation;
@@ -77,15 +79,36 @@ static PetscBool ConstraintFilter(Cloth cloth, const PetscScalar *normal, PetscI
   return ClothContactFilter(normal ? &normal[3 * i] : NULL, cloth->fixed[i], S);
 }
 
+/* Every local particle's filter S and whether it differs from I, once per assembly: each particle is in a dozen
+   elements, whose filtering reads them. */
+static PetscErrorCode ComputeFilters(Cloth cloth, const PetscScalar *normal)
+{
+  const PetscInt n = cloth->nlocal + cloth->nghost;
+
+  PetscFunctionBeginUser;
+  if (n > cloth->nfilter) {
+    PetscCall(PetscFree2(cloth->filter, cloth->filtered));
+    PetscCall(PetscMalloc2(9 * n, &cloth->filter, n, &cloth->filtered));
+    cloth->nfilter = n;
+  }
+  for (PetscInt i = 0; i < n; i++) cloth->filtered[i] = ConstraintFilter(cloth, normal, i, &cloth->filter[9 * i]);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 /* H (n x n, row-major, 3x3 blocks) <- h2 S_a H_ab S_b for every block: the filtered element stiffness. Written
    on both sides so that the filtered system stays symmetric and CG applies. */
-static void FilterElementStiffness(Cloth cloth, const PetscScalar *normal, PetscReal h2, ClothElement *e)
+static void FilterElementStiffness(const ClothEvaluation *ev, ClothElement *e)
 {
-  const PetscInt n = 3 * e->np;
-  PetscReal      S[CLOTH_ELEMENT_MAX_PARTICLES][9], B[9], T[9];
-  PetscBool      constrained = PETSC_FALSE;
+  const PetscInt   n  = 3 * e->np;
+  const PetscReal  h2 = ev->h2;
+  const PetscReal *S[CLOTH_ELEMENT_MAX_PARTICLES];
+  PetscReal        B[9], T[9];
+  PetscBool        constrained = PETSC_FALSE;
 
-  for (PetscInt a = 0; a < e->np; a++) constrained = ConstraintFilter(cloth, normal, e->p[a], S[a]) ? PETSC_TRUE : constrained;
+  for (PetscInt a = 0; a < e->np; a++) {
+    S[a]        = &ev->filter[9 * e->p[a]];
+    constrained = ev->filtered[e->p[a]] ? PETSC_TRUE : constrained;
+  }
   if (!constrained) {
     for (PetscInt k = 0; k < n * n; k++) e->H[k] *= h2;
     return;
@@ -134,7 +157,7 @@ PetscErrorCode ClothElementSinkAdd(ClothElementSink ev, ClothElement *e)
   }
   if (ev->A) {
     /* Filter: constrained directions drop out (I - S goes on the diagonal, AddDiagonalBlocks). */
-    FilterElementStiffness(ev->cloth, ev->normal, ev->h2, e);
+    FilterElementStiffness(ev, e);
     PetscCall(MatSetValuesBlockedLocal(ev->A, e->np, e->p, e->np, e->p, e->H, ADD_VALUES));
   }
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -322,6 +345,9 @@ PetscErrorCode ClothAssembleImplicitSystem(Cloth cloth, PetscReal h, Vec positio
   ev.stiffness = cloth->stiffness;
   ev.psd       = cloth->stiffness == CLOTH_STIFFNESS_EXACT ? PETSC_FALSE : PETSC_TRUE;
   PetscCall(GetContactNormalsLocal(cloth, &normal_local, &ev.normal));
+  PetscCall(ComputeFilters(cloth, ev.normal));
+  ev.filter   = cloth->filter;
+  ev.filtered = cloth->filtered;
   PetscCall(ClothEvaluate(cloth, position, velocity, cloth->work_force, cloth->work_kv, &ev));
   PetscCall(AddDiagonalBlocks(cloth, ev.normal, h, A));
   for (PetscInt c = 0; c < cloth->ncontributions; c++) /* forces that depend on the whole force (body friction) */

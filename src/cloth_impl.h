@@ -39,8 +39,11 @@ struct _n_Cloth {
   PetscInt     *xadj, *adjncy;     /* natural-order adjacency, kept for preallocation (NULL after ClothReleaseGraph) */
   PetscInt      nedges;            /* its edges, each counted once */
 
-  Vec position, velocity, work_force, work_kv;
-  Vec contact_normal;                                                 /* ghosted, bs 3: unit normal of each particle's contact constraint, 0 when free
+  Vec        position, velocity, work_force, work_kv;
+  PetscReal *filter;                                                  /* each local particle's constraint filter S (9), refreshed by every assembly of the implicit system */
+  PetscBool *filtered;                                                /* ... and whether S differs from I */
+  PetscInt   nfilter;                                                 /* particles the two hold room for */
+  Vec        contact_normal;                                          /* ghosted, bs 3: unit normal of each particle's contact constraint, 0 when free
                                                                          (created by ClothGetContactNormals; NULL: no contacts) */
   struct _n_ClothSelfContact *self_contact;                           /* cloth-cloth contacts whose updates the integrator applies (borrowed, NULL: off) */
   ClothContribution           contributions[CLOTH_MAX_CONTRIBUTIONS]; /* plugged-in forces (cloth.h) */
