@@ -13,7 +13,7 @@ struct _n_ClothSeamBlocks {
   PetscInt          *block_of;  /* owned particle -> its joined block, -1 when it stands alone */
   PetscInt           nblocks;   /* joined blocks */
   PetscInt          *start;     /* block b's particles: member[start[b] .. start[b + 1]) (local numbers, owned) */
-  PetscInt          *member;    /* (CSR filled in member_count order) */
+  PetscInt          *member;    /* (each block's in increasing local number) */
   PetscScalar       *inverse;   /* block b's inverse, dense row-major (3 m)^2 at inverse[offset[b]] */
   PetscInt          *offset;    /* nblocks + 1 */
   const PetscScalar *diagonal;  /* every owned particle's inverted 3x3 diagonal block (MatInvertBlockDiagonal, column-major) */
@@ -86,23 +86,18 @@ PetscErrorCode ClothSeamBlocksCreate(Cloth cloth, ClothSeamBlocks *sb)
 
 /* The 3x3 block (i, j) of the diagonal part (local block indices), row-major into out; zero where none is stored.
    SBAIJ stores j >= i only: (j, i) transposed, and diagonal blocks made symmetric from their upper triangle. */
-static void GetBlock(const ClothBlockRows *rows, PetscInt i, PetscInt j, PetscScalar out[9])
+static PetscErrorCode GetBlock(const ClothBlockRows *rows, PetscInt i, PetscInt j, PetscScalar out[9])
 {
   const PetscBool swap = (rows->upper && j < i) ? PETSC_TRUE : PETSC_FALSE;
   const PetscInt  r = swap ? j : i, c = swap ? i : j;
-  PetscInt        lo = rows->ia[r], hi = rows->ia[r + 1];
+  PetscInt        loc;
 
+  PetscFunctionBeginUser;
   for (PetscInt k = 0; k < BS2; k++) out[k] = 0;
-  while (lo < hi) { /* the row's columns are sorted */
-    const PetscInt mid = (lo + hi) / 2;
-    if (rows->ja[mid] < c)
-      lo = mid + 1;
-    else
-      hi = mid;
-  }
-  if (lo == rows->ia[r + 1] || rows->ja[lo] != c) return;
+  PetscCall(PetscFindInt(c, rows->ia[r + 1] - rows->ia[r], rows->ja + rows->ia[r], &loc)); /* the row's columns are sorted */
+  if (loc < 0) PetscFunctionReturn(PETSC_SUCCESS);
   {
-    const PetscScalar *v = rows->va + BS2 * lo; /* column-major */
+    const PetscScalar *v = rows->va + BS2 * (rows->ia[r] + loc); /* column-major */
     PetscScalar        sym[9];
     if (rows->upper && r == c) {
       ClothBlockSymmetricFromUpper(v, 1.0, sym);
@@ -111,6 +106,7 @@ static void GetBlock(const ClothBlockRows *rows, PetscInt i, PetscInt j, PetscSc
     for (PetscInt p = 0; p < BS; p++)
       for (PetscInt q = 0; q < BS; q++) out[BS * p + q] = swap ? v[BS * p + q] : v[BS * q + p]; /* row-major of v, or of v^T */
   }
+  PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 /* Block b's dense matrix from the diagonal part, inverted by Cholesky (LAPACK); false when it is not positive definite. */
@@ -123,7 +119,7 @@ static PetscErrorCode InvertBlock(ClothSeamBlocks sb, const ClothBlockRows *rows
   PetscFunctionBeginUser;
   for (PetscInt p = 0; p < m; p++)
     for (PetscInt q = 0; q < m; q++) {
-      GetBlock(rows, sb->member[sb->start[b] + p], sb->member[sb->start[b] + q], block);
+      PetscCall(GetBlock(rows, sb->member[sb->start[b] + p], sb->member[sb->start[b] + q], block));
       for (PetscInt r = 0; r < BS; r++)
         for (PetscInt c = 0; c < BS; c++) M[n * (BS * p + r) + BS * q + c] = block[BS * r + c];
     }
