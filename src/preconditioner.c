@@ -13,7 +13,7 @@
      multigrid takes 84 iterations a step against point-block Jacobi's 219 but 2.3x its wall time: the pieces are
      small and the stiff seams couple them only on the finest level, so the coarse levels help little.
    - point-block Jacobi below; for a garment its seam-block form (seam_blocks.h, -implicit_pc_seam_blocks), which inverts
-     each sewn node with its partner: on the main job 144,250 Krylov iterations against 210,757, 8-13 % less wall time
+     each sewn node with its partner: on the main job 144,250 Krylov iterations against 210,757, 10-16 % less wall time
      (docs/performance.md, "Seam-block Jacobi"). GAMG on the hanging sheet: 1.4x point-block Jacobi's wall time at
      65 x 65, about the same at 129 x 129, 1.8-1.9x less at 257 x 257. */
 #define CLOTH_PC_GRID_MIN_PARTICLES 2500
@@ -189,7 +189,7 @@ PetscErrorCode ClothPreconditionerCreate(KSP ksp, Cloth cloth, ClothPrecondition
   PetscOptionsBegin(PetscObjectComm((PetscObject)ksp), NULL, "Implicit solve: default preconditioner", "ClothPreconditioner");
   PetscCall(PetscOptionsInt("-implicit_pc_grid_min_particles", "Default preconditioner of a scene without seams: the pattern-grid multigrid (mg) from this many particles on, point-block Jacobi below (-pc_type overrides)", "ClothPreconditionerCreate",
                             grid_min_particles, &grid_min_particles, NULL));
-  PetscCall(PetscOptionsInt("-implicit_pc_multilevel_min_particles", "Default preconditioner of a garment (a scene with seams): GAMG from this many particles on, point-block Jacobi below (-pc_type overrides)", "ClothPreconditionerCreate",
+  PetscCall(PetscOptionsInt("-implicit_pc_multilevel_min_particles", "Default preconditioner of a garment (a scene with seams): GAMG from this many particles on, seam-block Jacobi below (-pc_type overrides)", "ClothPreconditionerCreate",
                             min_particles, &min_particles, NULL));
   PetscCall(PetscOptionsBool("-implicit_pc_seam_blocks", "Default preconditioner of a garment below -implicit_pc_multilevel_min_particles: point-block Jacobi with each sewn node and its partner in one block (false: every particle its own block)",
                              "ClothSeamBlocksCreate", seam_blocks, &seam_blocks, NULL));
