@@ -14,8 +14,8 @@
 #   TIMES         the simulated times of the hem table, s            [0.2 0.4 0.6 1 2 5]
 #   RANKS         MPI ranks                                         [2]
 #   RENDER, MOVIE those of jobs/garment_outputs.sh                  [1, 1]
-# The implicit solve uses the solver's default preconditioner for garments, point-block Jacobi below 40,000
-# particles: GAMG from 5,000 on (-implicit_pc_multilevel_min_particles 5000, tried on 2026-11-26) broke down on
+# The implicit solve uses the solver's default preconditioner for garments, seam-block Jacobi (point-block Jacobi
+# with each sewn pair in one block, src/seam_blocks.c) below 40,000 particles: GAMG from 5,000 on (-implicit_pc_multilevel_min_particles 5000, tried on 2026-11-26) broke down on
 # the middle dress (an indefinite preconditioner) in 269 of its first 310 steps, each solve then done again by the
 # fallback solver (362 Krylov its/step in all).
 set -uo pipefail
