@@ -284,16 +284,17 @@ PetscErrorCode ClothComputeForces(Cloth cloth, Vec position, Vec velocity, Vec f
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* Diagonal blocks: S (m + h c) I S + (I - S) = (m + h c) S + (I - S) (S is a projector) for every owned particle. */
-static PetscErrorCode AddDiagonalBlocks(Cloth cloth, const PetscScalar *normal, PetscReal h, Mat A)
+/* Diagonal blocks: S (m + h c) I S + (I - S) = (m + h c) S + (I - S) (S is a projector) for every owned particle, with
+   the filters of this assembly (ComputeFilters). */
+static PetscErrorCode AddDiagonalBlocks(Cloth cloth, PetscReal h, Mat A)
 {
   PetscFunctionBeginUser;
   for (PetscInt i = 0; i < cloth->nlocal; i++) {
-    const PetscReal d = cloth->mass[i] + h * cloth->damping[i];
-    PetscReal       block[9];
+    const PetscReal  d = cloth->mass[i] + h * cloth->damping[i];
+    const PetscReal *S = &cloth->filter[9 * i]; /* ComputeFilters' of this assembly */
+    PetscReal        block[9];
 
-    (void)ConstraintFilter(cloth, normal, i, block);
-    for (PetscInt k = 0; k < 9; k++) block[k] = d * block[k] + ((k % 4 == 0) ? 1.0 : 0.0) - block[k];
+    for (PetscInt k = 0; k < 9; k++) block[k] = d * S[k] + ((k % 4 == 0) ? 1.0 : 0.0) - S[k];
     PetscCall(MatSetValuesBlockedLocal(A, 1, &i, 1, &i, block, ADD_VALUES));
   }
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -349,7 +350,7 @@ PetscErrorCode ClothAssembleImplicitSystem(Cloth cloth, PetscReal h, Vec positio
   ev.filter   = cloth->filter;
   ev.filtered = cloth->filtered;
   PetscCall(ClothEvaluate(cloth, position, velocity, cloth->work_force, cloth->work_kv, &ev));
-  PetscCall(AddDiagonalBlocks(cloth, ev.normal, h, A));
+  PetscCall(AddDiagonalBlocks(cloth, h, A));
   for (PetscInt c = 0; c < cloth->ncontributions; c++) /* forces that depend on the whole force (body friction) */
     if (cloth->contributions[c].add_to_implicit_step) PetscCall(cloth->contributions[c].add_to_implicit_step(cloth->contributions[c].ctx, h, velocity, cloth->work_force, A));
   PetscCall(RestoreContactNormalsLocal(cloth, &normal_local, &ev.normal));
