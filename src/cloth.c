@@ -25,6 +25,7 @@ PetscErrorCode ClothCreate(MPI_Comm comm, Scene scene, Cloth *cloth)
   c->friction_scale    = 1.0;
   c->perturbation_seed = 1;
   c->stiffness         = CLOTH_STIFFNESS_PROJECTED;
+  c->factored          = PETSC_TRUE;
   *cloth               = c;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -46,6 +47,8 @@ PetscErrorCode ClothSetFromOptions(Cloth cloth)
                              "Stiffness of the angle and twist elements in the implicit system: projected (the exact Hessian projected by an eigen-decomposition per element), gauss_newton (closed form, positive semidefinite, 7.9x less assembly), "
                              "exact (indefinite: tests only)",
                              "ClothAssembleImplicitSystem", ClothStiffnessTypes, (PetscEnum)cloth->stiffness, (PetscEnum *)&cloth->stiffness, NULL));
+  PetscCall(PetscOptionsBool("-cloth_stiffness_factored", "With gauss_newton: filter and assemble each angle and twist element from its rank-1 to 3 factors (false: from its expanded matrix; the same system up to rounding)",
+                             "ClothAssembleImplicitSystem", cloth->factored, &cloth->factored, NULL));
   PetscOptionsEnd();
   PetscCall(ClothOptionsCheckReal(cloth->comm, "-cloth_perturbation", cloth->perturbation, 0, PETSC_FALSE, PETSC_MAX_REAL, "m"));
   PetscCall(ClothOptionsCheckReal(cloth->comm, "-cloth_perturbation_wavelength", cloth->perturbation_wavelength, 0, PETSC_FALSE, PETSC_MAX_REAL, "m"));

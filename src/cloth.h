@@ -61,6 +61,9 @@ PetscErrorCode ClothAssembleImplicitSystem(Cloth cloth, PetscReal h, Vec positio
 /* With exact = true the implicit system uses the exact stiffness (possibly indefinite) instead of its
    positive semidefinite part; for Jacobian tests against finite differences. */
 PetscErrorCode ClothSetExactStiffness(Cloth cloth, PetscBool exact);
+/* With factored = false the Gauss-Newton stiffness is filtered and assembled from each element's expanded matrix
+   instead of its factors (-cloth_stiffness_factored): the same system up to rounding; for tests and timings. */
+PetscErrorCode ClothSetFactoredStiffness(Cloth cloth, PetscBool factored);
 /* Force contributions that plug into the cloth (docs/architecture.md, "Adding a force"). The cloth's own
    interactions (links, elastic angle springs and twist, gravity, damping) are built in; every other force registers
    one ClothContribution: the model's seam links (seam_links.c) and hysteresis (hysteresis.c) at ClothSetUp,
@@ -82,13 +85,16 @@ typedef struct {
    (CLOTH_SEAM_LINK_MAX_PARTICLES). */
 #define CLOTH_ELEMENT_MAX_PARTICLES PetscMax(CLOTH_ANGLE_MAX_PARTICLES, CLOTH_SEAM_LINK_MAX_PARTICLES)
 /* One element in the common form of the cloth's pass over its interactions: np particles p (local numbering),
-   its energy, the forces on them (3 np) and the Hessian of the energy (3np x 3np, row-major; only when asked). */
+   its energy, the forces on them (3 np) and the Hessian of the energy (only when asked): in H (3np x 3np, row-major)
+   or, when factored (an angle spring's Gauss-Newton form, np <= CLOTH_ANGLE_MAX_PARTICLES), as the factors K. */
 typedef struct {
-  PetscInt  np;
-  PetscInt  p[CLOTH_ELEMENT_MAX_PARTICLES];
-  PetscReal energy;
-  PetscReal force[3 * CLOTH_ELEMENT_MAX_PARTICLES];
-  PetscReal H[9 * CLOTH_ELEMENT_MAX_PARTICLES * CLOTH_ELEMENT_MAX_PARTICLES];
+  PetscInt               np;
+  PetscInt               p[CLOTH_ELEMENT_MAX_PARTICLES];
+  PetscReal              energy;
+  PetscReal              force[3 * CLOTH_ELEMENT_MAX_PARTICLES];
+  PetscBool              factored;
+  ClothFactoredStiffness K;
+  PetscReal              H[9 * CLOTH_ELEMENT_MAX_PARTICLES * CLOTH_ELEMENT_MAX_PARTICLES];
 } ClothElement;
 /* Where a contribution's elements go during the cloth's pass (add_elements): opaque. */
 typedef struct _n_ClothElementSink *ClothElementSink;
@@ -96,7 +102,7 @@ typedef struct _n_ClothElementSink *ClothElementSink;
    Hessian, and the form of the angle elements' stiffness (ClothAngleEvaluate). */
 PetscErrorCode ClothElementSinkGetInput(ClothElementSink sink, const PetscScalar **x, PetscBool *want_hessian, ClothStiffness *form);
 /* Adds one element to what the pass accumulates: energy, forces, K v, and its stiffness filtered by the
-   constraints into the matrix (element->H is overwritten by h^2 S H S). Not collective. */
+   constraints into the matrix (element->H is overwritten by h^2 S H S, element->K by S K). Not collective. */
 PetscErrorCode ClothElementSinkAdd(ClothElementSink sink, ClothElement *element);
 /* The element of an angle spring or friction element (forces.h) at local positions x. */
 PetscErrorCode ClothElementFromAngle(const ClothAngle *angle, const PetscScalar *x, PetscBool want_hessian, ClothStiffness form, ClothElement *element);

@@ -13,6 +13,7 @@ struct _n_Cloth {
   PetscBool          view_partition_summary; /* one line at set-up on more than one rank (the driver's default) */
   PetscBool          setup;
   ClothStiffness     stiffness;    /* form of the angle and twist elements' stiffness in the implicit system */
+  PetscBool          factored;     /* assemble the Gauss-Newton form from its factors (-cloth_stiffness_factored) */
   PetscReal          perturbation; /* amplitude, m, of the seeded start imperfections (0: none) */
   PetscInt           perturbation_seed;
   PetscReal          perturbation_wavelength; /* m: 0 independent per particle, > 0 a smooth field (model.h) */

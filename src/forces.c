@@ -131,7 +131,7 @@ static void LeviCivitaContract(const PetscReal v[3], PetscReal S[3][3])
    positions (weights D, Aw, Bw). T is trilinear, so its gradient and Hessian are exact and short:
    dT/dx_k = D_k a x b + Aw_k b x d + Bw_k d x a, and the (k p, l q) second derivative is
    S_b[p][q] (D_k Aw_l - Aw_k D_l) + S_a[p][q] (Bw_k D_l - D_k Bw_l) + S_d[p][q] (Aw_k Bw_l - Bw_k Aw_l). */
-static PetscErrorCode TwistEvaluate(const ClothAngle *twist, const PetscReal *const x[], ClothStiffness form, PetscReal *energy, PetscReal force[], PetscReal H[])
+static PetscErrorCode TwistEvaluate(const ClothAngle *twist, const PetscReal *const x[], ClothStiffness form, PetscReal *energy, PetscReal force[], PetscReal H[], ClothFactoredStiffness *F)
 {
   static const PetscReal D[4] = {1, -1, 1, -1};
   PetscReal              Aw[CLOTH_ANGLE_MAX_PARTICLES], Bw[CLOTH_ANGLE_MAX_PARTICLES], a[3], b[3], d[3] = {0, 0, 0}, axb[3], bxd[3], dxa[3], T, grad[12];
@@ -149,10 +149,12 @@ static PetscErrorCode TwistEvaluate(const ClothAngle *twist, const PetscReal *co
   if (energy) *energy = twist->k * T * T;
   if (force)
     for (PetscInt i = 0; i < 12; i++) force[i] = -2 * twist->k * T * grad[i];
-  if (H && form == CLOTH_STIFFNESS_GAUSS_NEWTON) { /* 2 k grad T grad T^T: drops the term in T, zero at rest */
-    for (PetscInt r = 0; r < 12; r++)
-      for (PetscInt q = 0; q < 12; q++) H[12 * r + q] = 2 * twist->k * grad[r] * grad[q];
-  } else if (H) {
+  if (F) { /* Gauss-Newton: 2 k grad T grad T^T, drops the term in T, zero at rest */
+    F->rank      = 1;
+    F->lambda[0] = 2 * twist->k;
+    for (PetscInt i = 0; i < 12; i++) F->q[0][i] = grad[i];
+  }
+  if (H) {
     PetscReal Sa[3][3], Sb[3][3], Sd[3][3];
 
     LeviCivitaContract(a, Sa);
@@ -170,56 +172,64 @@ static PetscErrorCode TwistEvaluate(const ClothAngle *twist, const PetscReal *co
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* Gauss-Newton stiffness of an angle spring with respect to its arms (a, b), 6x6 row-major. For a straight rest
-   (theta0 = 0) the energy is k (1 - c) = (k/2) |a/|a| - b/|b||^2, whose residual's Jacobian J = [P_a/|a|, -P_b/|b|]
-   (P the projector normal to an arm) gives k J^T J: both bending directions, no singularity at a straight thread.
+/* Gauss-Newton stiffness of an angle spring with respect to its arms (a, b), as factors: sum_r lambda_r u_r u_r^T
+   (u_r of 6 values). For a straight rest (theta0 = 0) the energy is k (1 - c) = (k/2) |a/|a| - b/|b||^2, whose
+   residual's Jacobian J = [P_a/|a|, -P_b/|b|] (P the projector normal to an arm) gives k J^T J: both bending
+   directions, no singularity at a straight thread; its three rows are the factors (P_a P_a = P_a).
    Otherwise E = k (1 - cos(theta - theta0)) as a function of theta gives k max(cos(theta - theta0), 0) grad theta
    grad theta^T with grad theta = -grad c / sin theta, in the arms' plane; when the spring is bent beyond its rest
    angle, the positive out-of-plane curvature of theta, (dE/dtheta / sin theta) u u^T with u = (n/|a|, -n/|b|), n the
    plane's unit normal, is kept too: as theta0 -> 0 it becomes the straight form's out-of-plane part, so the
    stiffness does not jump when a slider moves a rest angle off zero. */
-static void AngleGaussNewton(const ClothAngle *angle, const PetscReal a[3], const PetscReal b[3], PetscReal c, PetscReal s, const PetscReal g[6], PetscReal sin_floor, PetscReal He[36])
+static void AngleGaussNewton(const ClothAngle *angle, const PetscReal a[3], const PetscReal b[3], PetscReal c, PetscReal s, const PetscReal g[6], PetscReal sin_floor, PetscInt *rank, PetscReal lambda[CLOTH_STIFFNESS_MAX_RANK],
+                             PetscReal u[CLOTH_STIFFNESS_MAX_RANK][6])
 {
   if (angle->sin0 == 0 && angle->cos0 > 0) {
     const PetscReal la = PetscSqrtReal(Dot3(a, a)), lb = PetscSqrtReal(Dot3(b, b));
-    PetscReal       Pa[9], Pb[9];
 
-    for (PetscInt i = 0; i < 3; i++)
-      for (PetscInt j = 0; j < 3; j++) {
-        Pa[3 * i + j] = ((i == j) ? 1.0 : 0.0) - a[i] * a[j] / (la * la);
-        Pb[3 * i + j] = ((i == j) ? 1.0 : 0.0) - b[i] * b[j] / (lb * lb);
+    *rank = 3;
+    for (PetscInt m = 0; m < 3; m++) {
+      lambda[m] = angle->k * angle->cos0;
+      for (PetscInt i = 0; i < 3; i++) {
+        u[m][i]     = (((m == i) ? 1.0 : 0.0) - a[m] * a[i] / (la * la)) / la;
+        u[m][3 + i] = -(((m == i) ? 1.0 : 0.0) - b[m] * b[i] / (lb * lb)) / lb;
       }
-    for (PetscInt i = 0; i < 3; i++)
-      for (PetscInt j = 0; j < 3; j++) {
-        PetscReal papb = 0;
-        for (PetscInt m = 0; m < 3; m++) papb += Pa[3 * i + m] * Pb[3 * m + j];
-        He[6 * i + j]           = angle->k * angle->cos0 * Pa[3 * i + j] / (la * la);
-        He[6 * (3 + i) + 3 + j] = angle->k * angle->cos0 * Pb[3 * i + j] / (lb * lb);
-        He[6 * i + 3 + j]       = -angle->k * angle->cos0 * papb / (la * lb);
-        He[6 * (3 + j) + i]     = He[6 * i + 3 + j];
-      }
+    }
   } else {
     const PetscReal sc = PetscMax(s, sin_floor), w = angle->k * PetscMax(c * angle->cos0 + s * angle->sin0, 0.0) / (sc * sc);
     const PetscReal torque = angle->k * (s * angle->cos0 - c * angle->sin0); /* dE/dtheta = k sin(theta - theta0) */
 
-    for (PetscInt r = 0; r < 6; r++)
-      for (PetscInt q = 0; q < 6; q++) He[6 * r + q] = w * g[r] * g[q];
+    *rank     = 1;
+    lambda[0] = w;
+    for (PetscInt r = 0; r < 6; r++) u[0][r] = g[r];
     if (torque > 0 && s >= sin_floor) { /* bent beyond rest: out of the arms' plane theta grows as (1/theta) u u^T */
       const PetscReal la = PetscSqrtReal(Dot3(a, a)), lb = PetscSqrtReal(Dot3(b, b));
-      PetscReal       n[3], u[6];
+      PetscReal       n[3];
 
       Cross3(a, b, n);
+      *rank     = 2;
+      lambda[1] = torque / s;
       for (PetscInt i = 0; i < 3; i++) {
-        u[i]     = n[i] / (la * la * lb * s); /* unit normal / |a| */
-        u[3 + i] = -n[i] / (la * lb * lb * s);
+        u[1][i]     = n[i] / (la * la * lb * s); /* unit normal / |a| */
+        u[1][3 + i] = -n[i] / (la * lb * lb * s);
       }
-      for (PetscInt r = 0; r < 6; r++)
-        for (PetscInt q = 0; q < 6; q++) He[6 * r + q] += torque / s * u[r] * u[q];
     }
   }
 }
 
-PetscErrorCode ClothAngleEvaluate(const ClothAngle *angle, const PetscReal *const x[], ClothStiffness form, PetscReal *energy, PetscReal force[], PetscReal H[])
+void ClothFactoredStiffnessExpand(const ClothFactoredStiffness *K, PetscInt n, PetscReal scale, PetscReal H[])
+{
+  for (PetscInt r = 0; r < n; r++)
+    for (PetscInt c = r; c < n; c++) {
+      PetscReal sum = 0;
+      for (PetscInt m = 0; m < K->rank; m++) sum += K->lambda[m] * K->q[m][r] * K->q[m][c];
+      H[n * r + c] = H[n * c + r] = scale * sum;
+    }
+}
+
+/* An angle spring's energy, forces, and stiffness: the exact or projected Hessian in H, or the Gauss-Newton form's
+   factors in F (the arms' factors carried to the particles by the arm weights). */
+static PetscErrorCode AngleEvaluate(const ClothAngle *angle, const PetscReal *const x[], ClothStiffness form, PetscReal *energy, PetscReal force[], PetscReal H[], ClothFactoredStiffness *F)
 {
   const PetscInt np = ClothAngleParticleCount(angle->kind), n = 3 * np;
   PetscReal      A[CLOTH_ANGLE_MAX_PARTICLES], B[CLOTH_ANGLE_MAX_PARTICLES], a[3], b[3], c, s, g[6], Hc[36];
@@ -229,11 +239,11 @@ PetscErrorCode ClothAngleEvaluate(const ClothAngle *angle, const PetscReal *cons
 
   PetscFunctionBeginUser;
   if (angle->kind == CLOTH_ANGLE_TWIST) {
-    PetscCall(TwistEvaluate(angle, x, form, energy, force, H));
+    PetscCall(TwistEvaluate(angle, x, form, energy, force, H, F));
     PetscFunctionReturn(PETSC_SUCCESS);
   }
   AngleArmVectors(angle, x, A, B, a, b);
-  NormalizedDot(a, b, &c, g, (H && form != CLOTH_STIFFNESS_GAUSS_NEWTON) ? Hc : NULL);
+  NormalizedDot(a, b, &c, g, H ? Hc : NULL);
   s = PetscSqrtReal(PetscMax(1.0 - c * c, 0.0));
   /* E = k (1 - c c0 - s s0) with s = sqrt(1 - c^2) */
   if (energy) *energy = angle->k * (1.0 - c * angle->cos0 - s * angle->sin0);
@@ -249,19 +259,44 @@ PetscErrorCode ClothAngleEvaluate(const ClothAngle *angle, const PetscReal *cons
     for (PetscInt k = 0; k < np; k++)
       for (PetscInt i = 0; i < 3; i++) force[3 * k + i] = -dEdc * (A[k] * g[i] + B[k] * g[3 + i]);
   }
+  if (F) {
+    PetscReal u[CLOTH_STIFFNESS_MAX_RANK][6];
+
+    AngleGaussNewton(angle, a, b, c, s, g, sin_floor, &F->rank, F->lambda, u);
+    for (PetscInt m = 0; m < F->rank; m++)
+      for (PetscInt k = 0; k < np; k++)
+        for (PetscInt i = 0; i < 3; i++) F->q[m][3 * k + i] = A[k] * u[m][i] + B[k] * u[m][3 + i];
+  }
   if (H) {
     PetscReal He[36]; /* stiffness w.r.t. (a, b) */
-    if (form == CLOTH_STIFFNESS_GAUSS_NEWTON)
-      AngleGaussNewton(angle, a, b, c, s, g, sin_floor, He);
-    else
-      for (PetscInt r = 0; r < 6; r++)
-        for (PetscInt q = 0; q < 6; q++) He[6 * r + q] = d2Edc2 * g[r] * g[q] + dEdc * Hc[6 * r + q];
+    for (PetscInt r = 0; r < 6; r++)
+      for (PetscInt q = 0; q < 6; q++) He[6 * r + q] = d2Edc2 * g[r] * g[q] + dEdc * Hc[6 * r + q];
     for (PetscInt k = 0; k < np; k++)
       for (PetscInt l = 0; l < np; l++)
         for (PetscInt i = 0; i < 3; i++)
           for (PetscInt j = 0; j < 3; j++) H[n * (3 * k + i) + 3 * l + j] = A[k] * A[l] * He[6 * i + j] + A[k] * B[l] * He[6 * i + 3 + j] + B[k] * A[l] * He[6 * (3 + i) + j] + B[k] * B[l] * He[6 * (3 + i) + 3 + j];
     if (form == CLOTH_STIFFNESS_PROJECTED) PetscCall(ClothProjectPSD(n, H));
   }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothAngleEvaluate(const ClothAngle *angle, const PetscReal *const x[], ClothStiffness form, PetscReal *energy, PetscReal force[], PetscReal H[])
+{
+  PetscFunctionBeginUser;
+  if (H && form == CLOTH_STIFFNESS_GAUSS_NEWTON) {
+    ClothFactoredStiffness F;
+
+    PetscCall(AngleEvaluate(angle, x, form, energy, force, NULL, &F));
+    ClothFactoredStiffnessExpand(&F, 3 * ClothAngleParticleCount(angle->kind), 1.0, H);
+  } else
+    PetscCall(AngleEvaluate(angle, x, form, energy, force, H, NULL));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothAngleEvaluateFactored(const ClothAngle *angle, const PetscReal *const x[], PetscReal *energy, PetscReal force[], ClothFactoredStiffness *K)
+{
+  PetscFunctionBeginUser;
+  PetscCall(AngleEvaluate(angle, x, CLOTH_STIFFNESS_GAUSS_NEWTON, energy, force, NULL, K));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

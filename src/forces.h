@@ -89,6 +89,20 @@ typedef enum { CLOTH_STIFFNESS_EXACT, CLOTH_STIFFNESS_PROJECTED, CLOTH_STIFFNESS
 
 extern const char *const ClothStiffnessTypes[];
 
+/* A positive semidefinite stiffness in factored form: sum over r < rank of lambda[r] q_r q_r^T, q_r the r-th row of
+   q (3 np values, particle-major like the Hessian). The Gauss-Newton form of an angle spring has rank 1 to 3 (the
+   arms' Jacobian), of a twist element rank 1, so K v, the constraint filter S K S and the element matrix cost
+   O(rank n) or O(rank n^2) from the factors instead of O(n^2) to O(n^3) from the expanded matrix. */
+#define CLOTH_STIFFNESS_MAX_RANK 3
+typedef struct {
+  PetscInt  rank;
+  PetscReal lambda[CLOTH_STIFFNESS_MAX_RANK];
+  PetscReal q[CLOTH_STIFFNESS_MAX_RANK][3 * CLOTH_ANGLE_MAX_PARTICLES];
+} ClothFactoredStiffness;
+
+/* H (n x n, row-major) = scale sum_r lambda_r q_r q_r^T, exactly symmetric. */
+void ClothFactoredStiffnessExpand(const ClothFactoredStiffness *K, PetscInt n, PetscReal scale, PetscReal H[]);
+
 /* Number of particles of an angle spring of this kind (3 or 4). */
 PetscInt ClothAngleParticleCount(ClothAngleKind kind);
 /* The arms of an angle spring as weights of its particles: arm a = sum_k A[k] x[p[k]], b = sum_k B[k] x[p[k]]
@@ -99,6 +113,9 @@ void ClothAngleArms(ClothAngleKind kind, PetscReal A[CLOTH_ANGLE_MAX_PARTICLES],
    them (np x 3, row per particle); its 3np x 3np stiffness (row-major, particle-major) in the given form. Any output
    may be NULL. */
 PetscErrorCode ClothAngleEvaluate(const ClothAngle *angle, const PetscReal *const x[], ClothStiffness form, PetscReal *energy, PetscReal force[], PetscReal H[]);
+/* The same with the Gauss-Newton stiffness in factored form (K may be NULL: energy and forces only); equal to
+   ClothAngleEvaluate's CLOTH_STIFFNESS_GAUSS_NEWTON H, which is this K expanded. */
+PetscErrorCode ClothAngleEvaluateFactored(const ClothAngle *angle, const PetscReal *const x[], PetscReal *energy, PetscReal force[], ClothFactoredStiffness *K);
 
 /* The slider of a friction element (slip > 0) at positions x[k]: where the arms' angle theta has moved more
    than slip from the rest angle, the rest angle follows to theta -+ slip, so that the moment

@@ -23,7 +23,8 @@ static PetscErrorCode SeamLinksAddElements(void *ctx, ClothElementSink sink)
     const ClothSeamLink *link = &sl->links[s];
     const PetscReal     *xs[CLOTH_SEAM_LINK_MAX_PARTICLES];
 
-    e.np = link->np;
+    e.np       = link->np;
+    e.factored = PETSC_FALSE;
     for (PetscInt k = 0; k < link->np; k++) {
       e.p[k] = link->p[k];
       xs[k]  = &x[3 * link->p[k]];

@@ -87,9 +87,10 @@ static PetscErrorCode AnchorSpringsAddElements(void *ctx, ClothElementSink sink)
   for (PetscInt i = 0; i < nlocal; i++) {
     const PetscReal k = a->omega2 * mass[i];
 
-    e.np     = 1;
-    e.p[0]   = i;
-    e.energy = 0;
+    e.np       = 1;
+    e.p[0]     = i;
+    e.energy   = 0;
+    e.factored = PETSC_FALSE;
     for (PetscInt c = 0; c < 3; c++) {
       const PetscReal u = PetscRealPart(x[3 * i + c] - x0[3 * i + c]);
 
