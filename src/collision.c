@@ -271,12 +271,13 @@ static PetscErrorCode AddFrictionToImplicitStep(void *ctx, PetscReal h, Vec velo
   const PetscScalar *c, *v;
   PetscScalar       *f;
   const PetscBool   *fixed;
+  const PetscReal   *mass;
   PetscReal          scale;
   PetscInt           nlocal;
 
   PetscFunctionBeginUser;
   PetscCall(ClothGetSizes(col->cloth, &nlocal, NULL));
-  PetscCall(ClothGetMasses(col->cloth, NULL, &fixed));
+  PetscCall(ClothGetMasses(col->cloth, &mass, &fixed));
   PetscCall(ClothGetFrictionScale(col->cloth, &scale));
   PetscCall(ClothGetContactNormals(col->cloth, &normals));
   PetscCall(VecGetArrayRead(normals, &c));
@@ -284,7 +285,8 @@ static PetscErrorCode AddFrictionToImplicitStep(void *ctx, PetscReal h, Vec velo
   PetscCall(VecGetArray(force, &f));
   for (PetscInt i = 0; i < nlocal; i++) {
     const SceneBody *d;
-    PetscReal        n[3], vt[3], ff[3], D[9], vn, normal_force;
+    PetscReal        n[3], vt[3], ff[3], D[9], vn, normal_force, mu_max, u, pull;
+    PetscBool        could_reverse;
 
     for (PetscInt k = 0; k < 3; k++) col->vt_start[3 * i + k] = 0;
     /* free, pinned, or stuck (-collision_friction explicit's S = 0, e.g. from its checkpoint): nothing to add */
@@ -295,7 +297,15 @@ static PetscErrorCode AddFrictionToImplicitStep(void *ctx, PetscReal h, Vec velo
     if (normal_force == 0 || (d->friction_static == 0 && d->friction_kinetic == 0)) continue;
     vn = Dot3(&v[3 * i], n);
     for (PetscInt k = 0; k < 3; k++) vt[k] = v[3 * i + k] - vn * n[k];
-    PetscCall(ClothRegularisedFriction(scale * d->friction_static, scale * d->friction_kinetic, normal_force, col->friction_velocity, col->stribeck_velocity, PETSC_FALSE, n, vt, ff, D));
+    /* Friction whose impulse over the step, net of the pull along the slip, could stop the slip (h (mu N - F.t) >=
+       m |v_t|) would, linearised at the start speed (D ~ 0 along the motion), carry it through v_t = 0 and throw its
+       stiffly linked neighbours: then it acts as the drag mu N / s along the motion too, which slows the slip toward
+       zero but cannot reverse it. A slip that the pull keeps going (an incline) keeps the full Jacobian. */
+    u             = PetscSqrtReal(Dot3(vt, vt));
+    pull          = u > 0 ? Dot3(&f[3 * i], vt) / u : 0.0;
+    mu_max        = scale * PetscMax(d->friction_static, d->friction_kinetic);
+    could_reverse = h * (mu_max * normal_force - pull) >= mass[i] * u ? PETSC_TRUE : PETSC_FALSE;
+    PetscCall(ClothRegularisedFriction(scale * d->friction_static, scale * d->friction_kinetic, normal_force, col->friction_velocity, col->stribeck_velocity, could_reverse, n, vt, ff, D));
     for (PetscInt k = 0; k < 3; k++) {
       f[3 * i + k] += ff[k];
       col->vt_start[3 * i + k] = vt[k];

@@ -29,10 +29,13 @@ clothsim_add_mpi_test(collision_sphere_rest 1 $<TARGET_FILE:test_run_to_rest>
 # The lower bound on verified crossings was 100 (162 measured with -collision_friction explicit); with friction in
 # the implicit step (the default since issue 27) 71 crossings happen in these 120 steps (60 in contact at the end,
 # 0 inside; why fewer particles cross the surface itself was not analysed). The bound only makes sure that the comparison
-# with brute force was exercised on many crossings, so it is 50 now.
+# with brute force was exercised on many crossings, so it was 50. Since the friction of a held particle whose slip the
+# step could reverse acts as a drag (docs/collisions.md, "The drag where a reversal is possible", 2026-11-27), 45
+# crossings happen (71 in contact at the end, 0 inside): fewer particles are thrown back through the surface by their
+# neighbours' friction. The bound is 30: the comparison is still exercised on dozens of crossings.
 clothsim_add_mpi_test(collision_mannequin 1 $<TARGET_FILE:test_collision>
   -scene tests/data/mannequin_shoulders.yaml -collision_verify -progress_seconds 100
-  -expect_inside_at_most 0 -expect_verified_at_least 50 -expect_contacts_at_least 30
+  -expect_inside_at_most 0 -expect_verified_at_least 30 -expect_contacts_at_least 30
   -output_dir ${CMAKE_BINARY_DIR}/test-output/mannequin_np1)
 # A sheet dropped on one shoulder (tests/data/mannequin_shoulder.yaml) on 1 and 2 ranks: both end with nothing
 # inside and at least 5 particles in contact (measured: 70 and 51). On 2 ranks the per-rank cell grids must find

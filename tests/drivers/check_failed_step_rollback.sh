@@ -2,7 +2,8 @@
 # A failed step is undone completely (src/integrator.c SaveInternalState / RestoreInternalState): a sheet with
 # bending and shear hysteresis on a sphere (tests/data/rollback_drape.yaml), its Krylov solver capped at 38
 # iterations, fails at step 20 (measured with friction inside the implicit step, which needs fewer iterations:
-# 40 no longer fails; with the post-solve friction 40 failed at step 45) with 81 particles held on the sphere; a
+# 40 no longer fails; with the post-solve friction 40 failed at step 45; since 2026-11-27, with the friction's drag
+# where a step could reverse a slip, the last good state is step 30) with 81 particles held on the sphere; a
 # failing step is halved twice and its first halves may succeed before the last fails. The checkpoint written after
 # the failure must be the state the run had after step 44: every dataset (position, velocity, contact normals, both
 # slider families) bit-identical to the checkpoint of a run stopped at step 44.

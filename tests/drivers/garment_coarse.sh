@@ -6,7 +6,9 @@
 # `grid: [NU, NV]` by `grid: [NU', NV']`, and the test fails if a grid named is not in the scene or a grid
 # of the scene is not named (the full scene changed: update the test). Without GRIDS the scene is run as it is:
 # one written at its coarse resolution by a generator that another test checks (input/dress_fitted_coarse.yaml).
-# CLOTHSIM_OPTIONS (environment) holds further clothsim options, e.g. a shorter -t_final.
+# CLOTHSIM_OPTIONS (environment) holds further clothsim options, e.g. a shorter -t_final. FRAMES_SETTLED (environment),
+# with frames asked for in CLOTHSIM_OPTIONS (-output_every N), holds the arguments of tests/checkers/check_frames_settled.py:
+# no transient (fast particle, strained link) in any frame from a time on, which the final state alone does not show.
 #   bash tests/drivers/garment_coarse.sh SCENE ["NU NV=NU' NV'"...] [-- EXTRA garment_quality.py ARGS]   (CLOTHSIM: the binary)
 # The dress (input/dress.yaml; bodice 26 x 11 -> 26 x 6, straps 4 x 32 -> 4 x 16, skirt 33 x 25 -> 17 x 13:
 # 882 particles instead of 2,478) keeps its bodice's 25 cells across the top so that each strap end (4
@@ -37,4 +39,8 @@ read -r -a options <<< "${CLOTHSIM_OPTIONS:-}"
 mpiexec -n 2 "$CLOTHSIM" -scene "$coarse" -output_dir "$out/run" -output_every 0 -progress_seconds 30 "${options[@]}" > "$out/run.log" 2>&1 || { tail -20 "$out/run.log"; echo "FAIL: the run failed"; exit 1; }
 grep -A12 "^Widest seam pairs" "$out/run.log"
 grep "^Done" "$out/run.log"
+if [ -n "${FRAMES_SETTLED:-}" ]; then
+  read -r -a settled <<< "$FRAMES_SETTLED"
+  /usr/bin/python3 "$here/tests/checkers/check_frames_settled.py" "$out/run/$name.h5" "${settled[@]}" || exit 1
+fi
 /usr/bin/python3 "$here/postprocess/garment_quality.py" "$out/run" --name "$name" --check --worst 5 --scene "$coarse" "$@"
