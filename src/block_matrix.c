@@ -150,3 +150,116 @@ PetscErrorCode ClothBlockMatrixSetUpOperations(Mat A)
   if (sbaij) PetscCall(MatSetOperation(A, MATOP_INVERT_BLOCK_DIAGONAL, (void (*)(void))InvertDiagonalBlocksSBAIJ));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
+
+/* Each ghost's column in the off-process part (its global block index found in garray, which PETSc keeps sorted);
+   false when A's mapping does not number the owned particles first, in A's row order. */
+static PetscErrorCode MapAdderColumns(ClothBlockAdder *ad, PetscInt nblocks, PetscInt rstart, PetscBool *ok)
+{
+  PetscInt nb = 0;
+
+  PetscFunctionBeginUser;
+  *ok = PETSC_TRUE;
+  for (PetscInt i = 0; i < ad->nlocal; i++)
+    if (ad->global[i] != rstart + i) *ok = PETSC_FALSE;
+  if (ad->rows.Ao) PetscCall(MatGetLocalSize(ad->rows.Ao, NULL, &nb));
+  nb /= BS;
+  if (ad->rows.garray) {
+    PetscBool sorted;
+    PetscCall(PetscSortedInt(nb, ad->rows.garray, &sorted));
+    if (!sorted) *ok = PETSC_FALSE;
+  }
+  PetscCall(PetscMalloc1(nblocks, &ad->column));
+  for (PetscInt j = 0; j < nblocks; j++) {
+    ad->column[j] = -1;
+    if (j >= ad->nlocal && ad->rows.garray) PetscCall(PetscFindInt(ad->global[j], nb, ad->rows.garray, &ad->column[j]));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothBlockAdderBegin(Mat A, PetscInt nlocal, ClothBlockAdder *ad)
+{
+  ISLocalToGlobalMapping l2g;
+  PetscBool              block, assembled, ok;
+  PetscInt               bs, size, rstart;
+
+  PetscFunctionBeginUser;
+  ad->A      = A;
+  ad->active = PETSC_FALSE;
+  ad->nlocal = nlocal;
+  ad->column = NULL;
+  ad->global = NULL;
+  PetscCall(ClothBlockMatrixIsBlock(A, &block));
+  PetscCall(MatGetBlockSize(A, &bs));
+  PetscCall(MatAssembled(A, &assembled));
+  if (!block || bs != BS || !assembled) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(MatGetLocalToGlobalMapping(A, &l2g, NULL));
+  PetscCall(ISLocalToGlobalMappingGetSize(l2g, &size));
+  PetscCall(ISLocalToGlobalMappingGetBlockSize(l2g, &bs));
+  PetscCall(ISLocalToGlobalMappingGetBlockIndices(l2g, &ad->global));
+  PetscCall(MatGetOwnershipRange(A, &rstart, NULL));
+  PetscCall(ClothBlockRowsGet(A, &ad->rows));
+  PetscCall(MapAdderColumns(ad, size / bs, rstart / BS, &ok));
+  ad->active = ok;
+  if (!ok) PetscCall(ClothBlockAdderEnd(ad));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Where block (row, col) of an owned row is stored: NULL with *skip for a block SBAIJ does not store (below the
+   diagonal), NULL without it for one missing from the pattern. */
+static PetscScalar *FindAdderBlock(const ClothBlockAdder *ad, PetscInt row, PetscInt col, PetscBool *skip)
+{
+  const ClothBlockRows *r = &ad->rows;
+  PetscInt              loc;
+
+  *skip = (r->upper && ad->global[col] < ad->global[row]) ? PETSC_TRUE : PETSC_FALSE;
+  if (*skip) return NULL;
+  if (col < ad->nlocal) {
+    if (PetscFindInt(col, r->ia[row + 1] - r->ia[row], r->ja + r->ia[row], &loc) || loc < 0) return NULL;
+    return r->va + BS2 * (r->ia[row] + loc);
+  }
+  if (ad->column[col] < 0 || !r->ib) return NULL;
+  if (PetscFindInt(ad->column[col], r->ib[row + 1] - r->ib[row], r->jb + r->ib[row], &loc) || loc < 0) return NULL;
+  return r->vb + BS2 * (r->ib[row] + loc);
+}
+
+PetscErrorCode ClothBlockAdderAdd(ClothBlockAdder *ad, PetscInt np, const PetscInt p[], const PetscScalar H[])
+{
+  const PetscInt n = BS * np;
+
+  PetscFunctionBeginUser;
+  if (!ad->active) {
+    PetscCall(MatSetValuesBlockedLocal(ad->A, np, p, np, p, H, ADD_VALUES));
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
+  for (PetscInt a = 0; a < np; a++) {
+    if (p[a] >= ad->nlocal) { /* a ghost's row: to its owner through the stash */
+      PetscCall(MatSetValuesBlockedLocal(ad->A, 1, &p[a], np, p, H + BS * a * n, ADD_VALUES));
+      continue;
+    }
+    for (PetscInt b = 0; b < np; b++) {
+      PetscBool    skip;
+      PetscScalar *v = FindAdderBlock(ad, p[a], p[b], &skip);
+
+      if (skip) continue;
+      PetscCheck(v, PETSC_COMM_SELF, PETSC_ERR_PLIB, "Block (%" PetscInt_FMT ", %" PetscInt_FMT ") is not in the pattern of the assembled matrix", ad->global[p[a]], ad->global[p[b]]);
+      for (PetscInt c = 0; c < BS; c++) /* blocks are stored column-major */
+        for (PetscInt r = 0; r < BS; r++) v[BS * c + r] += H[(BS * a + r) * n + BS * b + c];
+    }
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothBlockAdderEnd(ClothBlockAdder *ad)
+{
+  PetscFunctionBeginUser;
+  if (ad->global) {
+    ISLocalToGlobalMapping l2g;
+    PetscCall(MatGetLocalToGlobalMapping(ad->A, &l2g, NULL));
+    PetscCall(ISLocalToGlobalMappingRestoreBlockIndices(l2g, &ad->global));
+  }
+  if (ad->column) PetscCall(ClothBlockRowsRestore(&ad->rows));
+  PetscCall(PetscFree(ad->column));
+  ad->global = NULL;
+  ad->active = PETSC_FALSE;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}

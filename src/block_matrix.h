@@ -38,3 +38,25 @@ PetscErrorCode ClothBlockMatrixIsBlock(Mat A, PetscBool *block);
 PetscErrorCode ClothBlockMatrixIsUpper(Mat A, PetscBool *upper);
 /* An SBAIJ matrix gets MatInvertBlockDiagonal (point-block Jacobi); other types are left as they are. */
 PetscErrorCode ClothBlockMatrixSetUpOperations(Mat A);
+
+/* Adds elements' 3x3 blocks to an assembled block matrix in place. Each owned row's block is found among the columns
+   that row stores and added there, which skips MatSetValuesBlockedLocal's index translation and general insertion
+   (most of the assembly's cost in the dress's profile); the rows of ghosts (another rank's particles) still go through
+   MatSetValuesBlockedLocal and its stash. Active on a (S)BAIJ matrix that was assembled before: its pattern is final
+   (ClothCreateMatrix sets MAT_NEW_NONZERO_ALLOCATION_ERR), so every block an element adds is stored already; a block
+   that is not is an error, as MatSetValues would make it. Otherwise (the first assembly, AIJ) every block goes through
+   MatSetValuesBlockedLocal. Values end up as MatSetValuesBlockedLocal would put them, in the same order. */
+typedef struct {
+  Mat             A;
+  PetscBool       active;
+  ClothBlockRows  rows;
+  PetscInt        nlocal; /* owned particles: local indices 0 .. nlocal - 1, then ghosts */
+  const PetscInt *global; /* each local particle's global block index (A's local-to-global mapping) */
+  PetscInt       *column; /* each ghost's column in Ao (index into garray), by local index; -1: none */
+} ClothBlockAdder;
+
+/* Begins adding to A, whose local-to-global mapping numbers the nlocal owned particles first. Not collective. */
+PetscErrorCode ClothBlockAdderBegin(Mat A, PetscInt nlocal, ClothBlockAdder *adder);
+/* Adds an element's blocks: H is 3np x 3np, row-major, over the local particles p (ADD_VALUES). */
+PetscErrorCode ClothBlockAdderAdd(ClothBlockAdder *adder, PetscInt np, const PetscInt p[], const PetscScalar H[]);
+PetscErrorCode ClothBlockAdderEnd(ClothBlockAdder *adder);

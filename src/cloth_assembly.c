@@ -12,7 +12,8 @@ typedef struct _n_ClothElementSink {
   PetscScalar       *force;    /* local form (owned + ghosts), 3 per particle */
   PetscScalar       *kv;       /* K v, local form */
   const PetscScalar *velocity; /* local form, needed for kv */
-  Mat                A;        /* receives h^2 K, filtered */
+  Mat                A;        /* receives h^2 K, filtered ... */
+  ClothBlockAdder    adder;    /* ... through this */
   PetscReal          h2;
   PetscBool          energy_wanted;
   PetscReal          energy;
@@ -201,7 +202,7 @@ PetscErrorCode ClothElementSinkAdd(ClothElementSink ev, ClothElement *e)
       FilterFactoredStiffness(ev, e);
     else
       FilterElementStiffness(ev, e);
-    PetscCall(MatSetValuesBlockedLocal(ev->A, e->np, e->p, e->np, e->p, e->H, ADD_VALUES));
+    PetscCall(ClothBlockAdderAdd(&ev->adder, e->np, e->p, e->H));
   }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -329,7 +330,7 @@ PetscErrorCode ClothComputeForces(Cloth cloth, Vec position, Vec velocity, Vec f
 
 /* Diagonal blocks: S (m + h c) I S + (I - S) = (m + h c) S + (I - S) (S is a projector) for every owned particle, with
    the filters of this assembly (ComputeFilters). */
-static PetscErrorCode AddDiagonalBlocks(Cloth cloth, PetscReal h, Mat A)
+static PetscErrorCode AddDiagonalBlocks(Cloth cloth, PetscReal h, ClothBlockAdder *adder)
 {
   PetscFunctionBeginUser;
   for (PetscInt i = 0; i < cloth->nlocal; i++) {
@@ -338,7 +339,7 @@ static PetscErrorCode AddDiagonalBlocks(Cloth cloth, PetscReal h, Mat A)
     PetscReal        block[9];
 
     for (PetscInt k = 0; k < 9; k++) block[k] = d * S[k] + ((k % 4 == 0) ? 1.0 : 0.0) - S[k];
-    PetscCall(MatSetValuesBlockedLocal(A, 1, &i, 1, &i, block, ADD_VALUES));
+    PetscCall(ClothBlockAdderAdd(adder, 1, &i, block));
   }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -393,8 +394,10 @@ PetscErrorCode ClothAssembleImplicitSystem(Cloth cloth, PetscReal h, Vec positio
   PetscCall(ComputeFilters(cloth, ev.normal));
   ev.filter   = cloth->filter;
   ev.filtered = cloth->filtered;
+  PetscCall(ClothBlockAdderBegin(A, cloth->nlocal, &ev.adder));
   PetscCall(ClothEvaluate(cloth, position, velocity, cloth->work_force, cloth->work_kv, &ev));
-  PetscCall(AddDiagonalBlocks(cloth, h, A));
+  PetscCall(AddDiagonalBlocks(cloth, h, &ev.adder));
+  PetscCall(ClothBlockAdderEnd(&ev.adder));
   for (PetscInt c = 0; c < cloth->ncontributions; c++) /* forces that depend on the whole force (body friction) */
     if (cloth->contributions[c].add_to_implicit_step) PetscCall(cloth->contributions[c].add_to_implicit_step(cloth->contributions[c].ctx, h, velocity, cloth->work_force, A));
   PetscCall(RestoreContactNormalsLocal(cloth, &normal_local, &ev.normal));
