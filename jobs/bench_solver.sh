@@ -10,7 +10,7 @@
 # (its setup.sh newton), Newton's four solvers at 65 and 129. Last the main job (the dress, 2 ranks) with the
 # projected and with the Gauss-Newton element stiffness (jobs/results/bench/dress_*.log, -log_view). Writes
 # jobs/results/bench/bench.csv (appended), bench.png and the table in docs/performance.md. Keep the machine
-# otherwise idle: it takes about an hour on 2 cores (the full second of 513 x 513 on 1 rank alone about 12 min).
+# otherwise idle: it takes about an hour on 2 cores (56 min on 2026-11-27; the full second of 513 x 513 on 1 rank alone 14 min).
 #
 #   bash jobs/bench_solver.sh
 #   GRIDS="65 129" RANKS_LIST=1 FULL_GRIDS= LARGE_GRID= bash jobs/bench_solver.sh     # a quick subset

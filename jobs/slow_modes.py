@@ -18,9 +18,18 @@ src/gridhierarchy.c does):
               coarse particles' frame components;
   enriched    cartesian plus a fourth coarse unknown per coarse particle: a displacement along the fine normals;
   smoothed-k  cartesian smoothed k times by damped point-block Jacobi, (I - omega D^-1 A)^k P (smoothed aggregation's
-              prolongator smoothing).
+              prolongator smoothing);
+  ls-fit      (--fit K) the cartesian pattern, each fine particle's 3x3 weight blocks fitted by least squares to K
+              further smooth vectors made like the measured ones (bootstrap/adaptive multigrid's interpolation),
+              translations reproduced exactly, weights drawn towards bilinear by a ridge term (--ridge).
+
+With --rhs (the same solve's right-hand side, -ksp_view_rhs binary:FILE) each coarse space is also tried as a
+two-grid preconditioner of CG: 2 Chebyshev steps on point-block Jacobi (on [0.1, 1.1] x the largest eigenvalue, as
+clothsim's smoother) before and after an exact coarse solve, from a zero guess to a relative 1e-5 in the natural
+norm; the iterations are printed. A two-grid count is a floor for the same coarse space in a V-cycle.
 """
 import argparse
+import itertools
 
 import h5py
 import numpy as np
@@ -123,6 +132,87 @@ def coarse_spaces(A, W, coarse_fine, frames, Dinv, omega, smooth_max):
         yield f'smoothed-{k}', P
 
 
+def least_squares_interpolation(W, coarse_fine, V, ridge):
+    """P on W's pattern with 3x3 blocks: fine particle f's blocks B_c minimise sum_k |v_k(f) - sum_c B_c v_k(c)|^2 over
+    the smooth vectors V (columns, each scaled to unit energy by the caller) plus ridge^2 |B - bilinear|^2 (scaled),
+    with the three translations reproduced exactly (a heavily weighted row each). A coarse particle's own row is
+    injection."""
+    n_fine = W.shape[0]
+    Vp = V.reshape(n_fine, 3, -1)
+    Wr = W.tocsr()
+    rows, cols, vals = [], [], []
+    for f in range(n_fine):
+        parents = Wr.indices[Wr.indptr[f]:Wr.indptr[f + 1]]
+        weights = Wr.data[Wr.indptr[f]:Wr.indptr[f + 1]]
+        m = len(parents)
+        if m == 0:
+            continue
+        if m == 1 and coarse_fine[parents[0]] == f:
+            blocks = np.eye(3)[None]
+        else:
+            X = Vp[coarse_fine[parents]].reshape(3 * m, -1).T  # vectors x (parent, component)
+            scale = np.sqrt(np.mean(X ** 2))
+            translation = np.tile(np.eye(3), (1, m))
+            bilinear = np.hstack([w * np.eye(3) for w in weights])
+            lhs = np.vstack([X, 1e2 * scale * translation, ridge * scale * np.eye(3 * m)])
+            rhs = np.vstack([Vp[f].T, 1e2 * scale * np.eye(3), ridge * scale * bilinear.T])
+            blocks = np.linalg.lstsq(lhs, rhs, rcond=None)[0].T.reshape(3, m, 3).transpose(1, 0, 2)
+        for c, block in zip(parents, blocks):
+            for a in range(3):
+                rows.extend([3 * f + a] * 3)
+                cols.extend(3 * c + np.arange(3))
+                vals.extend(block[a])
+    return sp.csr_matrix((vals, (rows, cols)), shape=(3 * n_fine, 3 * W.shape[1]))
+
+
+def two_grid_iterations(A, P, b, smoother_apply, lam, rtol=1e-5, maxit=1000):
+    """CG iterations with the two-grid preconditioner of P (see the module's help)."""
+    lu = sla.splu((P.T @ (A @ P)).tocsc())
+    emax, emin = 1.1 * lam, 0.1 * lam
+    theta, delta = (emax + emin) / 2, (emax - emin) / 2
+    sigma = theta / delta
+
+    def D(r):
+        return smoother_apply(r[:, None])[:, 0]
+
+    def chebyshev(rhs, x):  # PETSc's KSPCHEBYSHEV, 2 steps
+        d = D(rhs - A @ x) / theta
+        x = x + d
+        rho_new = 1 / (2 * sigma - 1 / sigma)
+        d = rho_new / sigma * d + 2 * rho_new / delta * D(rhs - A @ x)
+        return x + d
+
+    def precondition(r):
+        x = chebyshev(r, np.zeros_like(r))
+        x = x + P @ lu.solve(P.T @ (r - A @ x))
+        return chebyshev(r, x)
+
+    x, r = np.zeros_like(b), b.copy()
+    z = precondition(r)
+    p, rz = z.copy(), r @ z
+    reference = np.sqrt(rz)
+    for it in range(1, maxit + 1):
+        Ap = A @ p
+        alpha = rz / (p @ Ap)
+        x += alpha * p
+        r -= alpha * Ap
+        z = precondition(r)
+        rz_new = r @ z
+        if np.sqrt(abs(rz_new)) < rtol * reference:
+            return it
+        p = z + rz_new / rz * p
+        rz = rz_new
+    return maxit
+
+
+def read_petsc_vector(path):
+    with open(path, 'rb') as f:
+        classid, n = np.fromfile(f, dtype='>i4', count=2)
+        if classid != PETSC_VEC_ID:
+            raise SystemExit(f'{path}: not a PETSc binary vector (class id {classid})')
+        return np.fromfile(f, dtype='>f8', count=n).astype(np.float64)
+
+
 def projection_error(A, P, E):
     """|e - P (P^T A P)^-1 P^T A e|_A^2 / |e|_A^2 per column of E (coarse systems by Jacobi-preconditioned CG)."""
     AP = A @ P
@@ -151,6 +241,10 @@ def main():
     ap.add_argument('--sweeps', type=int, default=300, help='damped point-block Jacobi sweeps')
     ap.add_argument('--smooth', type=int, default=2, help='prolongator smoothings to try')
     ap.add_argument('--seed', type=int, default=1)
+    ap.add_argument('--fit', type=int, default=0, help='also the least-squares fitted interpolation from this many more smooth vectors (0: not)')
+    ap.add_argument('--ridge', type=float, default=0.1, help='ls-fit: weight of the pull towards the bilinear weights')
+    ap.add_argument('--skip', default='', help='coarse spaces to leave out, comma-separated (e.g. enriched: singular where the sheet is flat)')
+    ap.add_argument('--rhs', help='the solve\'s right-hand side (-ksp_view_rhs binary:FILE): also two-grid CG iterations per coarse space')
     args = ap.parse_args()
 
     n = args.grid
@@ -174,10 +268,11 @@ def main():
         u = smoother_apply(A @ v)
         lam = np.linalg.norm(u) / np.linalg.norm(v)
         v = u / np.linalg.norm(u)
-    E = rng.standard_normal((A.shape[0], args.vectors))
+    E = rng.standard_normal((A.shape[0], args.vectors + args.fit))
     E[np.repeat(pinned, 3)] = 0
     for _ in range(args.sweeps):
         E -= smoother_apply(A @ E) / (1.05 * lam)
+    E, F = E[:, :args.vectors], E[:, args.vectors:]  # measured / fitted to: the fit is judged on vectors it has not seen
     D_norm = np.einsum('ij,ij->j', E, np.einsum('fab,fbk->fak', np.linalg.inv(Dinv), E.reshape(n * n, 3, -1)).reshape(E.shape))
     rayleigh = np.einsum('ij,ij->j', E, A @ E) / D_norm / lam
     En = E.reshape(n * n, 3, -1)
@@ -196,10 +291,20 @@ def main():
     print('normal part, autocorrelation at lags', lags, 'along i:', [round(autocorrelation(1, l), 2) for l in lags],
           'along j:', [round(autocorrelation(0, l), 2) for l in lags])
     W, coarse_fine = bilinear_weights(n, args.ratio, pinned)
-    print(f'{"coarse space":<12} {"columns":>8} {"nnz/row":>8}  energy left unrepresented (median, max)')
-    for name, P in coarse_spaces(A, W, coarse_fine, frames, Dinv, 1.0 / lam, args.smooth):
+    b = read_petsc_vector(args.rhs) if args.rhs else None
+    spaces = coarse_spaces(A, W, coarse_fine, frames, Dinv, 1.0 / lam, args.smooth)
+    if args.fit:
+        F = F / np.sqrt(np.einsum('ij,ij->j', F, A @ F))
+        spaces = itertools.chain(spaces, [('ls-fit', least_squares_interpolation(W, coarse_fine, F, args.ridge))])
+    print(f'{"coarse space":<12} {"columns":>8} {"nnz/row":>8}  energy left unrepresented (median, max)'
+          + ('  two-grid CG its' if b is not None else ''))
+    skip = set(args.skip.split(',')) - {''}
+    for name, P in spaces:
+        if name in skip:
+            continue
         err = projection_error(A, P, E)
-        print(f'{name:<12} {P.shape[1]:>8} {P.nnz / P.shape[0]:>8.1f}  {np.median(err):.3f}  {err.max():.3f}', flush=True)
+        its = f'  {two_grid_iterations(A, P, b, smoother_apply, lam)}' if b is not None and name != 'enriched' else ''
+        print(f'{name:<12} {P.shape[1]:>8} {P.nnz / P.shape[0]:>8.1f}  {np.median(err):.3f}  {err.max():.3f}{its}', flush=True)
 
 
 if __name__ == '__main__':

@@ -1,0 +1,160 @@
+#!/usr/bin/env python3
+"""Would the slow modes of one step's solve speed up the next? (docs/performance.md, "Recycling, fitted
+interpolation, patches and warm starts").
+
+Reads two consecutive implicit systems of a hanging-sheet run on 1 rank (both matrices in one PETSc binary file, both
+right-hand sides in another, as -ksp_view_mat / -ksp_view_rhs write them over two steps), preconditions each by the
+two-grid method of jobs/slow_modes.py (cartesian bilinear interpolation of --ratio, 2 Chebyshev steps on point-block
+Jacobi around an exact coarse solve), and solves both by CG from a zero guess to a relative 1e-5. From the first
+solve's Lanczos process it takes the Ritz vectors of the k smallest Ritz values of B A (B the preconditioner), the
+modes the two-grid method converges slowest, and solves again with them deflated (the balancing form
+(I - Q A) B (I - A Q) + Q, Q = W (W^T A W)^-1 W^T, and the first iterate W (W^T A W)^-1 W^T b):
+  same system  the first system again: what deflation of exact slow modes can give;
+  next system  the second: what recycling them one step later gives (Krylov subspace recycling, deflated CG).
+
+  mpiexec -n 1 build/clothsim -scene input/hanging_sheet.yaml -grid 513 -restart run/checkpoint_000048.h5 \\
+      -steps 50 -implicit_mat_type baij -ksp_view_mat binary:A2.bin -ksp_view_rhs binary:b2.bin -output_dir tmp
+  python3 jobs/deflation_trial.py --matrices A2.bin --rhs b2.bin --grid 513
+"""
+import argparse
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as sla
+
+from slow_modes import (PETSC_MAT_ID, PETSC_VEC_ID, bilinear_weights, block_diagonal_inverse,
+                        block_interpolation)
+
+
+def read_matrices(path, count):
+    out = []
+    with open(path, 'rb') as f:
+        for _ in range(count):
+            classid, m, n, nnz = np.fromfile(f, dtype='>i4', count=4)
+            if classid != PETSC_MAT_ID:
+                raise SystemExit(f'{path}: fewer than {count} PETSc binary matrices')
+            lengths = np.fromfile(f, dtype='>i4', count=m)
+            cols = np.fromfile(f, dtype='>i4', count=nnz).astype(np.int64)
+            vals = np.fromfile(f, dtype='>f8', count=nnz).astype(np.float64)
+            out.append(sp.csr_matrix((vals, cols, np.concatenate([[0], np.cumsum(lengths)])), shape=(m, n)))
+    return out
+
+
+def read_vectors(path, count):
+    out = []
+    with open(path, 'rb') as f:
+        for _ in range(count):
+            classid, n = np.fromfile(f, dtype='>i4', count=2)
+            if classid != PETSC_VEC_ID:
+                raise SystemExit(f'{path}: fewer than {count} PETSc binary vectors')
+            out.append(np.fromfile(f, dtype='>f8', count=n).astype(np.float64))
+    return out
+
+
+def two_grid(A, P, n_particles):
+    """The two-grid preconditioner as a function r -> B r."""
+    Dinv = block_diagonal_inverse(A)
+
+    def D(r):
+        return np.einsum('fab,fb->fa', Dinv, r.reshape(n_particles, 3)).ravel()
+
+    v = np.random.default_rng(5).standard_normal(A.shape[0])
+    for _ in range(30):
+        u = D(A @ v)
+        lam = np.linalg.norm(u) / np.linalg.norm(v)
+        v = u / np.linalg.norm(u)
+    emax, emin = 1.1 * lam, 0.1 * lam
+    theta, delta = (emax + emin) / 2, (emax - emin) / 2
+    sigma = theta / delta
+    lu = sla.splu((P.T @ (A @ P)).tocsc())
+
+    def chebyshev(rhs, x):
+        d = D(rhs - A @ x) / theta
+        x = x + d
+        rho_new = 1 / (2 * sigma - 1 / sigma)
+        return x + rho_new / sigma * d + 2 * rho_new / delta * D(rhs - A @ x)
+
+    def apply(r):
+        x = chebyshev(r, np.zeros_like(r))
+        return chebyshev(r, x + P @ lu.solve(P.T @ (r - A @ x)))
+    return apply
+
+
+def cg(A, b, B, W=None, rtol=1e-5, maxit=1000):
+    """(Deflated) preconditioned CG, stopped relative to B's norm of b either way; returns the iterations and the
+    Lanczos data (coefficients, vectors)."""
+    reference = np.sqrt(b @ B(b))
+    if W is not None:
+        AW = A @ W
+        Einv = np.linalg.inv(W.T @ AW)
+        x = W @ (Einv @ (W.T @ b))
+        inner = B
+
+        def B(r):  # (I - Q A) B (I - A Q) r, Q = W E^-1 W^T; + Q r adds nothing: W^T r = 0 from the first iterate on
+            y = inner(r - AW @ (Einv @ (W.T @ r)))
+            return y - W @ (Einv @ (AW.T @ y))
+    else:
+        x = np.zeros_like(b)
+    r = b - A @ x
+    z = B(r)
+    p, rz = z.copy(), r @ z
+    alphas, betas, V = [], [], []
+    for it in range(1, maxit + 1):
+        V.append(z / np.sqrt(rz))
+        Ap = A @ p
+        alpha = rz / (p @ Ap)
+        alphas.append(alpha)
+        x += alpha * p
+        r -= alpha * Ap
+        z = B(r)
+        rz_new = r @ z
+        if np.sqrt(abs(rz_new)) < rtol * reference:
+            return it, alphas, betas, V
+        betas.append(rz_new / rz)
+        p = z + betas[-1] * p
+        rz = rz_new
+    return maxit, alphas, betas, V
+
+
+def smallest_ritz_vectors(alphas, betas, V, k):
+    """Ritz values and vectors of B A from CG's Lanczos tridiagonal matrix."""
+    m = len(alphas)
+    T = np.zeros((m, m))
+    for j in range(m):
+        T[j, j] = 1 / alphas[j] + (betas[j - 1] / alphas[j - 1] if j > 0 else 0)
+        if j + 1 < m:
+            T[j, j + 1] = T[j + 1, j] = -np.sqrt(betas[j]) / alphas[j]
+    values, Q = np.linalg.eigh(T)
+    return values[:k], np.array(V[:m]).T @ Q[:, :k]
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument('--matrices', required=True, help='two consecutive systems, -ksp_view_mat binary:FILE over 2 steps (1 rank)')
+    ap.add_argument('--rhs', required=True, help='their right-hand sides, -ksp_view_rhs binary:FILE')
+    ap.add_argument('--grid', type=int, required=True, help='particles per side of the square sheet')
+    ap.add_argument('--ratio', type=int, default=4, help='coarsening ratio of the two-grid method')
+    ap.add_argument('--k', default='5,10,20,40', help='numbers of Ritz vectors to deflate')
+    args = ap.parse_args()
+    n = args.grid
+    systems = list(zip(read_matrices(args.matrices, 2), read_vectors(args.rhs, 2)))
+    pinned = np.zeros(n * n, bool)
+    pinned[0] = pinned[n - 1] = True
+    W, _ = bilinear_weights(n, args.ratio, pinned)
+    Wc = W.tocoo()
+    P = block_interpolation(W, np.broadcast_to(np.eye(3), (Wc.nnz, 3, 3)) * Wc.data[:, None, None])
+    precs = [two_grid(A, P, n * n) for A, _ in systems]
+    first = cg(*systems[0], precs[0])
+    second = cg(*systems[1], precs[1])
+    print(f'two-grid CG, ratio {args.ratio}: {first[0]} iterations (first system), {second[0]} (next system)')
+    ks = [int(k) for k in args.k.split(',')]
+    values, Y = smallest_ritz_vectors(*first[1:], max(ks))
+    print('smallest Ritz values of B A:', ' '.join(f'{v:.4f}' for v in values[:10]))
+    for k in ks:
+        same = cg(*systems[0], precs[0], Y[:, :k])[0]
+        following = cg(*systems[1], precs[1], Y[:, :k])[0]
+        print(f'{k:>3} Ritz vectors deflated: same system {same}, next system {following}', flush=True)
+
+
+if __name__ == '__main__':
+    main()
