@@ -20,10 +20,10 @@ import argparse
 
 import numpy as np
 import scipy.sparse as sp
-import scipy.sparse.linalg as sla
 
 from slow_modes import (PETSC_MAT_ID, PETSC_VEC_ID, bilinear_weights, block_diagonal_inverse,
-                        block_interpolation)
+                        block_interpolation, largest_eigenvalue, point_block_jacobi, preconditioned_cg,
+                        two_grid_preconditioner)
 
 
 def read_matrices(path, count):
@@ -51,69 +51,10 @@ def read_vectors(path, count):
     return out
 
 
-def two_grid(A, P, n_particles):
-    """The two-grid preconditioner as a function r -> B r."""
-    Dinv = block_diagonal_inverse(A)
-
-    def D(r):
-        return np.einsum('fab,fb->fa', Dinv, r.reshape(n_particles, 3)).ravel()
-
-    v = np.random.default_rng(5).standard_normal(A.shape[0])
-    for _ in range(30):
-        u = D(A @ v)
-        lam = np.linalg.norm(u) / np.linalg.norm(v)
-        v = u / np.linalg.norm(u)
-    emax, emin = 1.1 * lam, 0.1 * lam
-    theta, delta = (emax + emin) / 2, (emax - emin) / 2
-    sigma = theta / delta
-    lu = sla.splu((P.T @ (A @ P)).tocsc())
-
-    def chebyshev(rhs, x):
-        d = D(rhs - A @ x) / theta
-        x = x + d
-        rho_new = 1 / (2 * sigma - 1 / sigma)
-        return x + rho_new / sigma * d + 2 * rho_new / delta * D(rhs - A @ x)
-
-    def apply(r):
-        x = chebyshev(r, np.zeros_like(r))
-        return chebyshev(r, x + P @ lu.solve(P.T @ (r - A @ x)))
-    return apply
-
-
-def cg(A, b, B, W=None, rtol=1e-5, maxit=1000):
-    """(Deflated) preconditioned CG, stopped relative to B's norm of b either way; returns the iterations and the
-    Lanczos data (coefficients, vectors)."""
-    reference = np.sqrt(b @ B(b))
-    if W is not None:
-        AW = A @ W
-        Einv = np.linalg.inv(W.T @ AW)
-        x = W @ (Einv @ (W.T @ b))
-        inner = B
-
-        def B(r):  # (I - Q A) B (I - A Q) r, Q = W E^-1 W^T; + Q r adds nothing: W^T r = 0 from the first iterate on
-            y = inner(r - AW @ (Einv @ (W.T @ r)))
-            return y - W @ (Einv @ (AW.T @ y))
-    else:
-        x = np.zeros_like(b)
-    r = b - A @ x
-    z = B(r)
-    p, rz = z.copy(), r @ z
-    alphas, betas, V = [], [], []
-    for it in range(1, maxit + 1):
-        V.append(z / np.sqrt(rz))
-        Ap = A @ p
-        alpha = rz / (p @ Ap)
-        alphas.append(alpha)
-        x += alpha * p
-        r -= alpha * Ap
-        z = B(r)
-        rz_new = r @ z
-        if np.sqrt(abs(rz_new)) < rtol * reference:
-            return it, alphas, betas, V
-        betas.append(rz_new / rz)
-        p = z + betas[-1] * p
-        rz = rz_new
-    return maxit, alphas, betas, V
+def two_grid(A, P):
+    """The two-grid preconditioner of jobs/slow_modes.py for A."""
+    smoother_apply = point_block_jacobi(block_diagonal_inverse(A))
+    return two_grid_preconditioner(A, P, smoother_apply, largest_eigenvalue(A, smoother_apply, seed=5))
 
 
 def smallest_ritz_vectors(alphas, betas, V, k):
@@ -143,16 +84,16 @@ def main():
     W, _ = bilinear_weights(n, args.ratio, pinned)
     Wc = W.tocoo()
     P = block_interpolation(W, np.broadcast_to(np.eye(3), (Wc.nnz, 3, 3)) * Wc.data[:, None, None])
-    precs = [two_grid(A, P, n * n) for A, _ in systems]
-    first = cg(*systems[0], precs[0])
-    second = cg(*systems[1], precs[1])
+    precs = [two_grid(A, P) for A, _ in systems]
+    first = preconditioned_cg(*systems[0], precs[0])
+    second = preconditioned_cg(*systems[1], precs[1])
     print(f'two-grid CG, ratio {args.ratio}: {first[0]} iterations (first system), {second[0]} (next system)')
     ks = [int(k) for k in args.k.split(',')]
     values, Y = smallest_ritz_vectors(*first[1:], max(ks))
     print('smallest Ritz values of B A:', ' '.join(f'{v:.4f}' for v in values[:10]))
     for k in ks:
-        same = cg(*systems[0], precs[0], Y[:, :k])[0]
-        following = cg(*systems[1], precs[1], Y[:, :k])[0]
+        same = preconditioned_cg(*systems[0], precs[0], Y[:, :k])[0]
+        following = preconditioned_cg(*systems[1], precs[1], Y[:, :k])[0]
         print(f'{k:>3} Ritz vectors deflated: same system {same}, next system {following}', flush=True)
 
 

@@ -165,8 +165,26 @@ def least_squares_interpolation(W, coarse_fine, V, ridge):
     return sp.csr_matrix((vals, (rows, cols)), shape=(3 * n_fine, 3 * W.shape[1]))
 
 
-def two_grid_iterations(A, P, b, smoother_apply, lam, rtol=1e-5, maxit=1000):
-    """CG iterations with the two-grid preconditioner of P (see the module's help)."""
+def point_block_jacobi(Dinv):
+    """V -> D^-1 V for the columns of V (3 rows a particle)."""
+    def apply(V):
+        return np.einsum('fab,fbk->fak', Dinv, V.reshape(Dinv.shape[0], 3, -1)).reshape(V.shape)
+    return apply
+
+
+def largest_eigenvalue(A, smoother_apply, seed=1, iterations=30):
+    """The largest eigenvalue of D^-1 A by power iteration."""
+    v = np.random.default_rng(seed).standard_normal((A.shape[0], 1))
+    for _ in range(iterations):
+        u = smoother_apply(A @ v)
+        lam = np.linalg.norm(u) / np.linalg.norm(v)
+        v = u / np.linalg.norm(u)
+    return lam
+
+
+def two_grid_preconditioner(A, P, smoother_apply, lam):
+    """r -> B r: 2 Chebyshev steps on point-block Jacobi (on [0.1, 1.1] x lam, as clothsim's smoother: PETSc's
+    KSPCHEBYSHEV) before and after an exact solve with P^T A P."""
     lu = sla.splu((P.T @ (A @ P)).tocsc())
     emax, emin = 1.1 * lam, 0.1 * lam
     theta, delta = (emax + emin) / 2, (emax - emin) / 2
@@ -175,34 +193,53 @@ def two_grid_iterations(A, P, b, smoother_apply, lam, rtol=1e-5, maxit=1000):
     def D(r):
         return smoother_apply(r[:, None])[:, 0]
 
-    def chebyshev(rhs, x):  # PETSc's KSPCHEBYSHEV, 2 steps
+    def chebyshev(rhs, x):
         d = D(rhs - A @ x) / theta
         x = x + d
         rho_new = 1 / (2 * sigma - 1 / sigma)
-        d = rho_new / sigma * d + 2 * rho_new / delta * D(rhs - A @ x)
-        return x + d
+        return x + rho_new / sigma * d + 2 * rho_new / delta * D(rhs - A @ x)
 
-    def precondition(r):
+    def apply(r):
         x = chebyshev(r, np.zeros_like(r))
-        x = x + P @ lu.solve(P.T @ (r - A @ x))
-        return chebyshev(r, x)
+        return chebyshev(r, x + P @ lu.solve(P.T @ (r - A @ x)))
+    return apply
 
-    x, r = np.zeros_like(b), b.copy()
-    z = precondition(r)
+
+def preconditioned_cg(A, b, B, W=None, rtol=1e-5, maxit=1000):
+    """CG preconditioned by B from a zero guess, stopped at rtol relative to B's norm of b; with W (columns), deflated in
+    the balancing form (I - Q A) B (I - A Q) + Q, Q = W (W^T A W)^-1 W^T, from the first iterate Q b (after it W^T r = 0,
+    so the + Q r term is left out). Returns the iterations and the Lanczos data: the coefficients alpha and
+    beta and the vectors z / sqrt(r.z)."""
+    reference = np.sqrt(b @ B(b))
+    x = np.zeros_like(b)
+    if W is not None:
+        AW = A @ W
+        Einv = np.linalg.inv(W.T @ AW)
+        x = W @ (Einv @ (W.T @ b))
+        inner = B
+
+        def B(r):
+            y = inner(r - AW @ (Einv @ (W.T @ r)))
+            return y - W @ (Einv @ (AW.T @ y))
+    r = b - A @ x
+    z = B(r)
     p, rz = z.copy(), r @ z
-    reference = np.sqrt(rz)
+    alphas, betas, V = [], [], []
     for it in range(1, maxit + 1):
+        V.append(z / np.sqrt(rz))
         Ap = A @ p
         alpha = rz / (p @ Ap)
+        alphas.append(alpha)
         x += alpha * p
         r -= alpha * Ap
-        z = precondition(r)
+        z = B(r)
         rz_new = r @ z
         if np.sqrt(abs(rz_new)) < rtol * reference:
-            return it
-        p = z + rz_new / rz * p
+            return it, alphas, betas, V
+        betas.append(rz_new / rz)
+        p = z + betas[-1] * p
         rz = rz_new
-    return maxit
+    return maxit, alphas, betas, V
 
 
 def read_petsc_vector(path):
@@ -259,15 +296,10 @@ def main():
     frames = grid_frames(x, n)
     Dinv = block_diagonal_inverse(A)
 
-    def smoother_apply(V):
-        return np.einsum('fab,fbk->fak', Dinv, V.reshape(n * n, 3, -1)).reshape(3 * n * n, -1)
-
+    smoother_apply = point_block_jacobi(Dinv)
+    lam = largest_eigenvalue(A, smoother_apply, args.seed)
     rng = np.random.default_rng(args.seed)
-    v = rng.standard_normal((A.shape[0], 1))
-    for _ in range(30):  # the largest eigenvalue of D^-1 A by power iteration
-        u = smoother_apply(A @ v)
-        lam = np.linalg.norm(u) / np.linalg.norm(v)
-        v = u / np.linalg.norm(u)
+    rng.standard_normal((A.shape[0], 1))  # the power iteration's start: the same random errors as before
     E = rng.standard_normal((A.shape[0], args.vectors + args.fit))
     E[np.repeat(pinned, 3)] = 0
     for _ in range(args.sweeps):
@@ -303,7 +335,7 @@ def main():
         if name in skip:
             continue
         err = projection_error(A, P, E)
-        its = f'  {two_grid_iterations(A, P, b, smoother_apply, lam)}' if b is not None and name != 'enriched' else ''
+        its = f'  {preconditioned_cg(A, b, two_grid_preconditioner(A, P, smoother_apply, lam))[0]}' if b is not None and name != 'enriched' else ''
         print(f'{name:<12} {P.shape[1]:>8} {P.nnz / P.shape[0]:>8.1f}  {np.median(err):.3f}  {err.max():.3f}{its}', flush=True)
 
 
