@@ -19,36 +19,10 @@ modes the two-grid method converges slowest, and solves again with them deflated
 import argparse
 
 import numpy as np
-import scipy.sparse as sp
 
-from slow_modes import (PETSC_MAT_ID, PETSC_VEC_ID, bilinear_weights, block_diagonal_inverse,
-                        block_interpolation, largest_eigenvalue, point_block_jacobi, preconditioned_cg,
+from slow_modes import (bilinear_weights, block_diagonal_inverse, block_interpolation, largest_eigenvalue,
+                        point_block_jacobi, preconditioned_cg, read_petsc_matrices, read_petsc_vectors,
                         two_grid_preconditioner)
-
-
-def read_matrices(path, count):
-    out = []
-    with open(path, 'rb') as f:
-        for _ in range(count):
-            classid, m, n, nnz = np.fromfile(f, dtype='>i4', count=4)
-            if classid != PETSC_MAT_ID:
-                raise SystemExit(f'{path}: fewer than {count} PETSc binary matrices')
-            lengths = np.fromfile(f, dtype='>i4', count=m)
-            cols = np.fromfile(f, dtype='>i4', count=nnz).astype(np.int64)
-            vals = np.fromfile(f, dtype='>f8', count=nnz).astype(np.float64)
-            out.append(sp.csr_matrix((vals, cols, np.concatenate([[0], np.cumsum(lengths)])), shape=(m, n)))
-    return out
-
-
-def read_vectors(path, count):
-    out = []
-    with open(path, 'rb') as f:
-        for _ in range(count):
-            classid, n = np.fromfile(f, dtype='>i4', count=2)
-            if classid != PETSC_VEC_ID:
-                raise SystemExit(f'{path}: fewer than {count} PETSc binary vectors')
-            out.append(np.fromfile(f, dtype='>f8', count=n).astype(np.float64))
-    return out
 
 
 def two_grid(A, P):
@@ -78,7 +52,7 @@ def main():
     ap.add_argument('--k', default='5,10,20,40', help='numbers of Ritz vectors to deflate')
     args = ap.parse_args()
     n = args.grid
-    systems = list(zip(read_matrices(args.matrices, 2), read_vectors(args.rhs, 2)))
+    systems = list(zip(read_petsc_matrices(args.matrices, 2), read_petsc_vectors(args.rhs, 2)))
     pinned = np.zeros(n * n, bool)
     pinned[0] = pinned[n - 1] = True
     W, _ = bilinear_weights(n, args.ratio, pinned)

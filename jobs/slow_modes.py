@@ -39,16 +39,24 @@ import scipy.sparse.linalg as sla
 PETSC_MAT_ID, PETSC_VEC_ID = 1211216, 1211214
 
 
-def read_petsc_matrix(path):
-    """A PETSc binary matrix (big-endian, 32-bit indices) as CSR."""
+def read_petsc_matrices(path, count=1):
+    """The first count PETSc binary matrices (big-endian, 32-bit indices) of a file, as CSR (-ksp_view_mat appends one
+    a solve)."""
+    out = []
     with open(path, 'rb') as f:
-        classid, m, n, nnz = np.fromfile(f, dtype='>i4', count=4)
-        if classid != PETSC_MAT_ID:
-            raise SystemExit(f'{path}: not a PETSc binary matrix (class id {classid})')
-        lengths = np.fromfile(f, dtype='>i4', count=m)
-        cols = np.fromfile(f, dtype='>i4', count=nnz).astype(np.int64)
-        vals = np.fromfile(f, dtype='>f8', count=nnz).astype(np.float64)
-    return sp.csr_matrix((vals, cols, np.concatenate([[0], np.cumsum(lengths)])), shape=(m, n))
+        for _ in range(count):
+            classid, m, n, nnz = np.fromfile(f, dtype='>i4', count=4)
+            if classid != PETSC_MAT_ID:
+                raise SystemExit(f'{path}: fewer than {count} PETSc binary matrices (class id {classid})')
+            lengths = np.fromfile(f, dtype='>i4', count=m)
+            cols = np.fromfile(f, dtype='>i4', count=nnz).astype(np.int64)
+            vals = np.fromfile(f, dtype='>f8', count=nnz).astype(np.float64)
+            out.append(sp.csr_matrix((vals, cols, np.concatenate([[0], np.cumsum(lengths)])), shape=(m, n)))
+    return out
+
+
+def read_petsc_matrix(path):
+    return read_petsc_matrices(path)[0]
 
 
 def grid_frames(x, n):
@@ -242,12 +250,16 @@ def preconditioned_cg(A, b, B, W=None, rtol=1e-5, maxit=1000):
     return maxit, alphas, betas, V
 
 
-def read_petsc_vector(path):
+def read_petsc_vectors(path, count=1):
+    """The first count PETSc binary vectors of a file (-ksp_view_rhs appends one a solve)."""
+    out = []
     with open(path, 'rb') as f:
-        classid, n = np.fromfile(f, dtype='>i4', count=2)
-        if classid != PETSC_VEC_ID:
-            raise SystemExit(f'{path}: not a PETSc binary vector (class id {classid})')
-        return np.fromfile(f, dtype='>f8', count=n).astype(np.float64)
+        for _ in range(count):
+            classid, n = np.fromfile(f, dtype='>i4', count=2)
+            if classid != PETSC_VEC_ID:
+                raise SystemExit(f'{path}: fewer than {count} PETSc binary vectors (class id {classid})')
+            out.append(np.fromfile(f, dtype='>f8', count=n).astype(np.float64))
+    return out
 
 
 def projection_error(A, P, E):
@@ -323,7 +335,7 @@ def main():
     print('normal part, autocorrelation at lags', lags, 'along i:', [round(autocorrelation(1, l), 2) for l in lags],
           'along j:', [round(autocorrelation(0, l), 2) for l in lags])
     W, coarse_fine = bilinear_weights(n, args.ratio, pinned)
-    b = read_petsc_vector(args.rhs) if args.rhs else None
+    b = read_petsc_vectors(args.rhs)[0] if args.rhs else None
     spaces = coarse_spaces(A, W, coarse_fine, frames, Dinv, 1.0 / lam, args.smooth)
     if args.fit:
         F = F / np.sqrt(np.einsum('ij,ij->j', F, A @ F))
