@@ -460,6 +460,9 @@ static PetscErrorCode RefreshGridOperators(ClothPreconditioner pre, PC pc, Mat A
     }
     PetscCall(PCMGGetSmoother(pc, l - 1, &smoother));
     PetscCall(KSPSetOperators(smoother, pre->coarse[l - 1], pre->coarse[l - 1]));
+    /* PCSetUp_MG takes a level's residual operator from its smoother only once: a product created anew (a new
+       pattern of A, from contacts) must be given to it too, or the residual is taken with the level's old operator */
+    if (l > 1) PetscCall(PCMGSetResidual(pc, l - 1, PCMGResidualDefault, pre->coarse[l - 1]));
     fine = pre->coarse[l - 1];
   }
   if (nlevels > 1) PetscCall(PCMGSetResidual(pc, nlevels - 1, PCMGResidualDefault, A));
