@@ -193,7 +193,7 @@ static inline PetscScalar *At(ClothSelfContact sc, PetscScalar *owned, PetscScal
 
 /* Energy, force on the separation r (as on the particle side) and its 3x3 stiffness, from the link
    kernel with its repulsion term only: 0.5 k (thickness - |r|)^2 for |r| < thickness. */
-static PetscErrorCode RepulsionEvaluate(ClothSelfContact sc, const PetscReal r[3], PetscBool psd, PetscReal *energy, PetscReal force[3], PetscReal K[9])
+static PetscErrorCode RepulsionEvaluate(ClothSelfContact sc, const ClothContact *contact, const PetscReal r[3], PetscBool psd, PetscReal *energy, PetscReal force[3], PetscReal K[9])
 {
   const PetscReal zero[3] = {0, 0, 0};
   ClothLink       link;
@@ -202,7 +202,7 @@ static PetscErrorCode RepulsionEvaluate(ClothSelfContact sc, const PetscReal r[3
   PetscCall(PetscMemzero(&link, sizeof(link))); /* no stretch, no rest length: only the repulsion */
   link.p[0] = link.p[1] = -1;
   link.repel_length     = sc->thickness;
-  link.repel_k          = sc->stiffness;
+  link.repel_k          = sc->stiffness * contact->scale;
   PetscCall(ClothLinkEvaluate(&link, zero, r, psd, energy, force, K));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -324,7 +324,7 @@ static PetscErrorCode AddRepulsion(ClothSelfContact sc, Vec position, Vec veloci
       for (PetscInt q = 0; q < 3; q++) r[q] += contact->a[j] * PetscRealPart(At(sc, x, xr, loc[j])[q]);
     d = PetscSqrtReal(Dot3(r, r));
     if (!(d < sc->thickness) || d <= 0) continue; /* outside the repulsion zone (or no direction) */
-    PetscCall(RepulsionEvaluate(sc, r, psd, &e, fr3, (kv || A) ? K : NULL));
+    PetscCall(RepulsionEvaluate(sc, contact, r, psd, &e, fr3, (kv || A) ? K : NULL));
     if (energy) *energy += e;
     for (PetscInt j = 0; j < SELF_CONTACT_NP; j++)
       for (PetscInt q = 0; q < 3; q++) At(sc, f, fr, loc[j])[q] += contact->a[j] * fr3[q];
@@ -383,7 +383,7 @@ static PetscErrorCode ContactPush(ClothSelfContact sc, PetscInt c, PetscScalar *
   *acts = (d < sc->thickness && d > 0) ? PETSC_TRUE : PETSC_FALSE; /* no repulsion (or no direction): no normal force */
   *push = 0;
   if (!*acts) PetscFunctionReturn(PETSC_SUCCESS);
-  PetscCall(RepulsionEvaluate(sc, r, PETSC_TRUE, &e, frep, NULL));
+  PetscCall(RepulsionEvaluate(sc, contact, r, PETSC_TRUE, &e, frep, NULL));
   for (PetscInt q = 0; q < 3; q++) n[q] = r[q] / d;
   *push = PetscSqrtReal(Dot3(frep, frep));
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -758,6 +758,8 @@ PetscErrorCode ClothSelfContactCreate(Cloth cloth, ClothSelfContact *sc)
   s->min_gap              = 0.25;
   s->impulse_iterations   = 100;
   s->skin                 = 0.5;
+  s->velocity_margin      = 0.25;
+  s->exclude_thicknesses  = 2;
   s->friction             = PETSC_FALSE;
   s->friction_coefficient = 0.3;
   s->friction_velocity    = 1e-4;
@@ -778,7 +780,9 @@ PetscErrorCode ClothSelfContactSetFromOptions(ClothSelfContact sc)
   PetscCall(PetscOptionsInt("-self_collision_exclude_ring", "Particles of one piece this many grid rings apart or closer never collide", "ClothSelfContactUpdate", sc->exclude_ring, &sc->exclude_ring, NULL));
   PetscCall(PetscOptionsReal("-self_collision_min_gap", "Impulses keep every gap above this fraction of the thickness", "ClothSelfContactFilterVelocity", sc->min_gap, &sc->min_gap, NULL));
   PetscCall(PetscOptionsInt("-self_collision_impulse_iterations", "Largest number of Gauss-Seidel sweeps of the impulse filter per step", "ClothSelfContactFilterVelocity", sc->impulse_iterations, &sc->impulse_iterations, NULL));
-  PetscCall(PetscOptionsReal("-self_collision_skin", "Candidate list: the particles may move this fraction of the thickness (plus the step's travel) before the list is built again", "ClothSelfContactUpdate", sc->skin, &sc->skin, NULL));
+  PetscCall(PetscOptionsReal("-self_collision_exclude_thicknesses", "Particles of one piece closer in the pattern than this many thicknesses never collide (the exclusion ring widens to it)", "ClothSelfContactUpdate", sc->exclude_thicknesses, &sc->exclude_thicknesses, NULL));
+  PetscCall(PetscOptionsReal("-self_collision_skin", "Broad phase: two tiles of the fabric keep their pairs of primitives while they move as one, relative motion and deformation below this fraction of the thickness", "ClothSelfContactUpdate", sc->skin, &sc->skin, NULL));
+  PetscCall(PetscOptionsReal("-self_collision_velocity_margin", "Candidates found at a step's start serve the velocity filter's search while no particle's displacement over the step has changed by more than this fraction of the thickness", "ClothSelfContactUpdate", sc->velocity_margin, &sc->velocity_margin, NULL));
   PetscCall(PetscOptionsBool("-self_collision_friction", "Regularised Coulomb friction between layers in contact, in the implicit step", "ClothSelfContactGetContribution", sc->friction, &sc->friction, NULL));
   PetscCall(PetscOptionsReal("-self_collision_friction_coefficient", "Friction coefficient mu between layers", "ClothSelfContactGetContribution", sc->friction_coefficient, &sc->friction_coefficient, NULL));
   PetscCall(PetscOptionsReal("-self_collision_friction_velocity", "Friction between layers: regularisation velocity eps_v, m/s", "ClothSelfContactGetContribution", sc->friction_velocity, &sc->friction_velocity, NULL));
@@ -799,6 +803,8 @@ PetscErrorCode ClothSelfContactSetFromOptions(ClothSelfContact sc)
     PetscCheck(sc->exclude_ring >= 0, sc->comm, PETSC_ERR_USER_INPUT, "-self_collision_exclude_ring must not be negative, got %" PetscInt_FMT, sc->exclude_ring);
     PetscCheck(sc->min_gap > 0 && sc->min_gap < 1, sc->comm, PETSC_ERR_USER_INPUT, "-self_collision_min_gap must lie in (0, 1), got %g", (double)sc->min_gap);
     PetscCall(ClothOptionsCheckReal(sc->comm, "-self_collision_skin", sc->skin, 0, PETSC_FALSE, 100, NULL));
+    PetscCall(ClothOptionsCheckReal(sc->comm, "-self_collision_velocity_margin", sc->velocity_margin, 0, PETSC_FALSE, 100, NULL));
+    PetscCall(ClothOptionsCheckReal(sc->comm, "-self_collision_exclude_thicknesses", sc->exclude_thicknesses, 0, PETSC_FALSE, 100, NULL));
     PetscCall(ClothOptionsCheckReal(sc->comm, "-self_collision_friction_coefficient", sc->friction_coefficient, 0, PETSC_FALSE, 100, NULL));
     PetscCall(ClothOptionsCheckReal(sc->comm, "-self_collision_friction_velocity", sc->friction_velocity, 0, PETSC_TRUE, PETSC_MAX_REAL, "m/s"));
     PetscCall(ClothOptionsCheckInt(sc->comm, "-self_collision_friction_load_sweeps", sc->friction_load_sweeps, 0, 100));
@@ -822,14 +828,15 @@ PetscErrorCode ClothSelfContactSetUp(ClothSelfContact sc)
   PetscCall(SelfContactBuildIncidence(layout->nglobal, sc->ntri, 3, sc->tri, &sc->tri_start, &sc->tri_of));
   PetscCall(SelfContactBuildIncidence(layout->nglobal, sc->nedge, 2, sc->edge, &sc->edge_start, &sc->edge_of));
   PetscCall(SelfContactBuildGridPositions(sc, layout->scene, layout->model));
+  PetscCall(SelfContactSetExclusionRings(sc));
+  PetscCall(SelfContactBuildTiles(sc, layout->scene, layout->model));
+  PetscCall(PetscMalloc1(3 * layout->nlocal + 1, &sc->dx0));
   PetscCall(PetscMalloc1(sc->size + 1, &sc->row_start));
   sc->row_start[sc->size] = layout->nglobal;
   PetscCallMPI(MPI_Allgather(&layout->rstart, 1, MPIU_INT, sc->row_start, 1, MPIU_INT, sc->comm));
   PetscCall(PetscMalloc1(layout->nglobal, &sc->contact_index));
   for (PetscInt g = 0; g < layout->nglobal; g++) sc->contact_index[g] = -1;
-  PetscCall(PetscCalloc2(sc->ntri + 1, &sc->tri_mark, sc->nedge + 1, &sc->edge_mark));
-  PetscCall(CellGridCreate(&sc->triangle_grid));
-  PetscCall(CellGridCreate(&sc->edge_grid));
+  PetscCall(CellGridCreate(&sc->tile_grid));
   sc->setup = PETSC_TRUE;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -874,6 +881,7 @@ PetscErrorCode ClothSelfContactUpdate(ClothSelfContact sc, PetscReal h, PetscBoo
   if (pattern_changed) PetscCall(UpdatePattern(sc, pattern_changed));
   sc->searches++;
   sc->contacts_found += sc->ncontacts;
+  for (PetscInt c = 0; c < sc->ncontacts; c++) sc->edge_contacts_found += sc->contacts[c].kind == CLOTH_CONTACT_EDGE_EDGE;
   PetscCall(PetscLogEventEnd(ClothLog.self_collision, 0, 0, 0, 0));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -925,19 +933,24 @@ PetscErrorCode ClothSelfContactGetContactField(ClothSelfContact sc, Vec field, P
 
 PetscErrorCode ClothSelfContactView(ClothSelfContact sc, PetscViewer viewer)
 {
-  PetscInt64 local[4] = {sc->contacts_found, sc->impulses, sc->nremote, sc->candidates_built}, sum[4];
+  PetscInt64 local[9] = {sc->contacts_found, sc->impulses, sc->nremote, sc->candidates_built, sc->edge_contacts_found, sc->tile_pairs, sc->tile_pairs_apart, sc->tile_pairs_kept, sc->primitive_pairs_total}, sum[9];
+  PetscInt   cmax;
 
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Allreduce(local, sum, 4, MPIU_INT64, MPI_SUM, sc->comm));
+  PetscCallMPI(MPI_Allreduce(local, sum, 9, MPIU_INT64, MPI_SUM, sc->comm));
+  PetscCallMPI(MPI_Allreduce(&sc->candidates_max, &cmax, 1, MPIU_INT, MPI_MAX, sc->comm));
   if (!sc->enabled) {
     PetscCall(PetscViewerASCIIPrintf(viewer, "Self-collision: off\n"));
     PetscFunctionReturn(PETSC_SUCCESS);
   }
-  PetscCall(PetscViewerASCIIPrintf(viewer, "Self-collision: thickness %g m, stiffness %g N/m, particles within %" PetscInt_FMT " ring(s) excluded%s, impulses keep gaps above %g x thickness\n", (double)sc->thickness, (double)sc->stiffness,
-                                   sc->exclude_ring, sc->same_piece ? "" : ", one piece never collides with itself", (double)sc->min_gap));
-  PetscCall(PetscViewerASCIIPrintf(viewer, "  %" PetscInt_FMT " searches, %.1f contacts per search, %" PetscInt_FMT " impulses, %" PetscInt_FMT " matrix pattern rebuilds, %" PetscInt_FMT " remote particles at the last search\n", sc->searches,
-                                   sc->searches ? (double)sum[0] / (double)sc->searches : 0.0, (PetscInt)sum[1], sc->rebuilds, (PetscInt)sum[2]));
-  PetscCall(PetscViewerASCIIPrintf(viewer, "  candidate list (skin %g x thickness): %" PetscInt_FMT " builds, %.1f candidates per build\n", (double)sc->skin, sc->builds, sc->builds ? (double)sum[3] / (double)sc->builds : 0.0));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "Self-collision: thickness %g m, stiffness %g N/m, particles within %" PetscInt_FMT " ring(s) (and %g thicknesses, %" PetscInt_FMT " ring(s) on the first piece) excluded%s, impulses keep gaps above %g x thickness\n",
+                                   (double)sc->thickness, (double)sc->stiffness, sc->exclude_ring, (double)sc->exclude_thicknesses, sc->ring ? sc->ring[0] : sc->exclude_ring, sc->same_piece ? "" : ", one piece never collides with itself", (double)sc->min_gap));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "  %" PetscInt_FMT " searches, %.1f contacts per search (%.1f edge-edge), %" PetscInt_FMT " impulses, %" PetscInt_FMT " matrix pattern rebuilds, %" PetscInt_FMT " remote particles at the last search\n", sc->searches,
+                                   sc->searches ? (double)sum[0] / (double)sc->searches : 0.0, sc->searches ? (double)sum[4] / (double)sc->searches : 0.0, (PetscInt)sum[1], sc->rebuilds, (PetscInt)sum[2]));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "  candidates (velocity margin %g x thickness): found %" PetscInt_FMT " times, %.1f per search (%.3f per particle), at most %" PetscInt_FMT " on a rank\n", (double)sc->velocity_margin, sc->builds,
+                                   sc->builds ? (double)sum[3] / (double)sc->builds : 0.0, sc->builds ? (double)sum[3] / (double)sc->builds / (double)sc->layout.nglobal : 0.0, cmax));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "  broad phase (tiles of %d x %d cells, skin %g x thickness): %.1f pairs of tiles near each other a search, %.1f %% of them proved apart, %.1f %% keeping their pairs of primitives from the last step; %.1f pairs of primitives (%.3f per particle) a search\n", SELF_CONTACT_TILE,
+                                   SELF_CONTACT_TILE, (double)sc->skin, sc->builds ? (double)sum[5] / (double)sc->builds : 0.0, sum[5] ? 100.0 * (double)sum[6] / (double)sum[5] : 0.0, sum[5] ? 100.0 * (double)sum[7] / (double)sum[5] : 0.0, sc->builds ? (double)sum[8] / (double)sc->builds : 0.0, sc->builds ? (double)sum[8] / (double)sc->builds / (double)sc->layout.nglobal : 0.0));
   if (sc->friction)
     PetscCall(PetscViewerASCIIPrintf(viewer, "  friction between layers: regularised Coulomb, mu %g, eps_v %g m/s, %" PetscInt_FMT " load sweeps\n", (double)sc->friction_coefficient, (double)sc->friction_velocity, sc->friction_load_sweeps));
   else
@@ -963,12 +976,12 @@ PetscErrorCode ClothSelfContactDestroy(ClothSelfContact *sc)
   PetscCall(PetscFree(s->natural_of));
   PetscCall(PetscFree(s->contact_index));
   PetscCall(PetscFree3(s->x, s->dx, s->x0));
+  PetscCall(PetscFree(s->dx0));
+  PetscCall(PetscFree(s->ring));
   PetscCall(PetscFree(s->candidates));
   PetscCall(PetscFree(s->known));
   PetscCall(PetscFree(s->row_start));
-  PetscCall(PetscFree2(s->tri_mark, s->edge_mark));
-  PetscCall(CellGridDestroy(&s->triangle_grid));
-  PetscCall(CellGridDestroy(&s->edge_grid));
+  PetscCall(SelfContactDestroyTiles(s));
   PetscCall(PetscFree2(s->contacts, s->local));
   PetscCall(PetscFree(s->extra));
   PetscCall(VecDestroy(&s->xremote));

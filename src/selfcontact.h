@@ -44,7 +44,9 @@ typedef struct {
   ClothContactKind kind;
   PetscInt         p[4];
   PetscReal        a[4];
+  PetscReal        r[3];     /* the separation at detection, m */
   PetscReal        distance; /* |r| at detection, m */
+  PetscReal        scale;    /* the share of the repulsion stiffness it carries (edge pairs fade out towards their ends) */
 } ClothContact;
 
 /* Collective. The cloth must be set up before ClothSelfContactSetUp. */

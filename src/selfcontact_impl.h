@@ -1,11 +1,31 @@
-/* The private part of ClothSelfContact, shared by its two files: src/selfcontact_search.c (static topology, the
-   exchange of particles near other ranks, the proximity search and its brute-force reference) and
-   src/selfcontact.c (the response: matrix pattern, repulsion, velocity filter, and the object). */
+/* The private part of ClothSelfContact, shared by its three files: src/selfcontact_search.c (static topology, the
+   exchange of particles near other ranks, the candidates and contacts and their brute-force reference),
+   src/selfcontact_tiles.c (the broad phase: tiles of the pattern grids, pairs of tiles near each other and their pairs
+   of primitives, kept over steps) and src/selfcontact.c (the response: matrix pattern, repulsion, velocity filter,
+   and the object). */
 #pragma once
 #include "selfcontact.h"
 #include "cellgrid.h"
 
-#define SELF_CONTACT_NP 4 /* particles of a contact element */
+#define SELF_CONTACT_NP 4                                                  /* particles of a contact element */
+#define SELF_CONTACT_TILE 4                                                /* cells per side of a tile, the unit of the broad phase */
+#define SELF_CONTACT_CLOSURE ((SELF_CONTACT_TILE + 1) * (SELF_CONTACT_TILE + 1)) /* particles of a tile's rectangle */
+#define SELF_CONTACT_PIECE_TILES 4                                         /* per piece: first tile, tiles along i and j, particles along i */
+
+/* A tile: the cells [i0, i1) x [j0, j1) of a piece (its particles [i0, i1] x [j0, j1]), the ti-th along i and tj-th
+   along j, of which ncells are in the pattern (a cut-out removes some). */
+typedef struct {
+  PetscInt piece, ti, tj, i0, j0, i1, j1, ncells;
+} SelfContactTile;
+
+/* A pair of primitives of two tiles near each other: a particle a and a triangle b, or edges a < b. */
+typedef struct {
+  ClothContactKind kind;
+  PetscInt         a, b;
+} SelfContactPrimitivePair;
+
+typedef struct _n_SelfContactSnapshot *SelfContactSnapshot; /* selfcontact_tiles.c */
+typedef struct _n_SelfContactTilePair *SelfContactTilePair; /* selfcontact_tiles.c */
 
 /* A pair of primitives of the candidate list: kind and particles as in ClothContact (natural numbering), and their
    contact-local indices. */
@@ -24,7 +44,8 @@ struct _n_ClothSelfContact {
   PetscMPIInt               size, rank;
   PetscBool                 enabled, view, setup;
   PetscReal                 thickness, stiffness, min_gap;
-  PetscReal                 skin;                 /* candidate list: motion allowed before a rebuild, as a fraction of the radius */
+  PetscReal                 skin;                 /* kept pairs of primitives: relative motion and deformation allowed before they are found again, as a fraction of the thickness */
+  PetscReal                 velocity_margin;      /* candidates: change of a displacement over the step allowed before they are found again, as a fraction of the thickness */
   PetscBool                 friction;             /* regularised Coulomb friction between layers in the implicit step */
   PetscReal                 friction_coefficient; /* mu */
   PetscReal                 friction_velocity;    /* eps_v of the regularised law, m/s */
@@ -35,6 +56,7 @@ struct _n_ClothSelfContact {
   Vec                       support;              /* friction: the direction nu of its net repulsion */
   PetscInt                  friction_load_sweeps; /* friction: sweeps carrying the loads of stacked layers down */
   PetscInt                  exclude_ring, impulse_iterations;
+  PetscReal                 exclude_thicknesses; /* pairs closer in the pattern than this many thicknesses never collide */
   PetscBool                 same_piece;
   ClothSelfContactExcludeFn exclude;
   void                     *exclude_ctx;
@@ -45,37 +67,55 @@ struct _n_ClothSelfContact {
   PetscInt *tri_start, *tri_of;         /* particle -> incident triangles (CSR) */
   PetscInt *edge_start, *edge_of;       /* particle -> incident edges (CSR) */
   PetscInt *piece_of, *grid_i, *grid_j; /* per particle: its piece and grid position in it */
+  PetscInt  ntiles, *piece_tiles;       /* tiles; per piece SELF_CONTACT_PIECE_TILES numbers */
+  SelfContactTile *tiles;
+  PetscInt        *tile_tri_start, *tile_tri_of;           /* tile -> triangles (CSR) */
+  PetscInt        *tile_edge_start, *tile_edge_of;         /* tile -> edges */
+  PetscInt        *tile_particle_start, *tile_particle_of; /* tile -> particles */
 
   /* the last search: "contact-local" particles are the owned ones (0 .. nlocal-1, solver order)
      followed by the remote ones received from other ranks */
   PetscInt      nremote, *remote_natural;
   PetscInt      nremote_prev;         /* remote particles listed in natural_of */
-  PetscInt     *tri_mark, *edge_mark; /* per primitive: the search (or query) that last visited it */
+  PetscInt     *tile_present, *tile_mark; /* per tile: its index among the present tiles of the search (-1: none); the query that last visited a present tile */
+  PetscInt     *present_tiles, npresent_tiles, maxpresent_tiles;
   PetscInt      visit;
+  SelfContactSnapshot      *snapshots;                /* per tile (NULL: none yet) */
+  SelfContactTilePair       kept, fresh;              /* pairs of tiles with their pairs of primitives: of the last broad phase (sorted by key), and the one under way */
+  PetscInt                  nkept, maxkept, nfresh, maxfresh;
+  SelfContactPrimitivePair *kept_pairs, *pairs; /* their pairs of primitives */
+  PetscInt                  nkept_pairs, maxkept_pairs, npairs, maxpairs;
+  PetscInt                 *scratch_ids, *scratch_ij; /* room (scratch_room each) for the primitives of two tiles, their particles' grid positions and their boxes */
+  PetscInt                  scratch_room;
+  PetscReal                *scratch_boxes;
   PetscInt     *natural_of;                                            /* contact-local -> natural */
   PetscInt     *contact_index;                                         /* natural -> contact-local, -1 when not present (size N) */
   PetscReal    *x, *dx;                                                /* contact-local positions at the search, displacements over the step */
-  PetscReal    *x0;                                                    /* contact-local positions when the candidate list was built */
+  PetscReal    *x0;                                                    /* contact-local positions when the candidates were found */
+  PetscReal    *dx0;                                                   /* the owned particles' displacements over the step then (3 nlocal) */
   PetscInt      nalloc;                                                /* contact-local particles natural_of, x, dx, x0 have room for */
   Vec           xremote, vremote, fremote, kvremote, bremote, wremote; /* bremote: body-contact normals; wremote: load vectors */
   VecScatter    remote_scatter;                                        /* cloth state -> remote particles */
-  CellGrid      triangle_grid, edge_grid;                              /* the cell grids of the last search */
+  CellGrid      tile_grid;                                             /* the cell grid of the tiles' boxes of the last search */
   PetscInt      ncontacts, maxcontacts;
   ClothContact *contacts; /* natural numbering */
   PetscInt     *local;    /* 4 contact-local indices per contact */
 
-  /* the candidate list (a Verlet list): every pair of primitives closer than list_radius = radius + 2 list_budget at
-     the positions x0 of its build. A pair within the radius plus its travel at a later search is among them as long
-     as no particle has moved more than the largest displacement since the build plus the largest travel over the
-     step sum to at most list_budget (each of the pair's closest points moves at most that far), so the later
-     searches only test the candidates; the list is built again when that bound fails. */
+  /* the candidates: every pair of primitives that comes within list_radius + 2 list_margin during the step at the
+     positions x0 and displacements dx0 of their search (swept boxes). They hold every contact within list_radius for
+     displacements that differ from dx0 by at most list_margin per particle at the same positions: the velocity
+     filter's search after the solve keeps them; the next step finds them anew. */
   PetscBool             list_valid;
   PetscBool             any_candidates;           /* on some rank: without, the searches, forces and impulses have nothing to do (collective) */
-  PetscReal             list_radius, list_budget; /* the search radius it serves; the motion it allows */
+  PetscReal             list_radius, list_margin; /* the search radius they serve; the change of displacement they allow */
   PetscInt              ncandidates, maxcandidates;
   SelfContactCandidate *candidates; /* sorted by kind, then particles: the contacts come out in this order */
-  PetscInt              builds;     /* statistics: list builds, candidates summed over the builds (this rank) */
+  PetscInt              builds;     /* statistics: searches that found candidates anew, candidates summed over them and the most at one (this rank) */
   PetscInt64            candidates_built;
+  PetscInt              candidates_max;
+  PetscInt64            primitive_pairs_total;                          /* statistics: pairs of primitives given to the narrow phase, summed over searches */
+  PetscInt64            tile_pairs, tile_pairs_apart, tile_pairs_kept; /* statistics: pairs of tiles whose boxes overlapped, those proved apart, those whose pairs of primitives were kept */
+  PetscInt             *ring; /* per piece: particles this many grid rings apart or closer never collide (SelfContactSetExclusionRings) */
 
   /* keys of the contact blocks this rank has sent to the rows' owners and found in the matrix pattern since it last
      changed (sorted): contacts whose blocks are all here need no exchange to know the pattern holds them */
@@ -87,7 +127,8 @@ struct _n_ClothSelfContact {
   PetscInt    nextra;
   PetscInt64 *extra;
   PetscInt    rebuilds;                           /* how often the matrix pattern had to grow */
-  PetscInt    searches, contacts_found, impulses; /* statistics for the view (summed over ranks where relevant) */
+  PetscInt    searches, impulses;                   /* statistics for the view (summed over ranks where relevant) */
+  PetscInt64  contacts_found, edge_contacts_found; /* contacts at the step's starts, and of them edge-edge ones */
 };
 
 /* qsort order of PetscInt64 keys, increasing. */
@@ -101,6 +142,30 @@ PetscErrorCode SelfContactBuildIncidence(PetscInt nparticles, PetscInt nprim, Pe
 
 /* Each particle's piece and (i, j) grid position, for the ring exclusion. */
 PetscErrorCode SelfContactBuildGridPositions(ClothSelfContact sc, Scene scene, ClothModel m);
+
+/* The tiles of every piece and their triangles, edges and particles (after the primitives and grid positions). */
+PetscErrorCode SelfContactBuildTiles(ClothSelfContact sc, Scene scene, ClothModel m);
+PetscErrorCode SelfContactDestroyTiles(ClothSelfContact sc);
+/* The tile of natural particle g. */
+PetscInt SelfContactParticleTile(const ClothSelfContact sc, PetscInt g);
+/* The pairs of primitives that may come within rho during the step at the contact-local state (x, dx), into
+   sc->kept_pairs[0 .. nkept_pairs): particle-triangle pairs of this rank's particles and edge pairs this rank handles,
+   allowed by the exclusion ring, whose boxes over the step come within rho of each other (and more: pairs of tiles
+   keep theirs while they move as one by less than skin). region: the box of every present particle over the step,
+   inflated by rho. */
+PetscErrorCode SelfContactPairPrimitives(ClothSelfContact sc, const PetscReal region[6], PetscReal rho, PetscReal skin);
+/* The box of natural particles v[0..nv) over the step, their displacements less u (NULL: none), inflated by inflate. */
+void SelfContactSweptBox(ClothSelfContact sc, const PetscInt v[], PetscInt nv, PetscReal inflate, const PetscReal u[3], PetscReal box[6]);
+/* Whether primitives with natural particles pa[0..na) and pb[0..nb) lie within their piece's exclusion ring (or in one
+   piece with same_piece off). */
+PetscBool SelfContactRingExcluded(ClothSelfContact sc, const PetscInt pa[], PetscInt na, const PetscInt pb[], PetscInt nb);
+/* Whether this rank handles the edge-edge pair of edges e1, e2 (particles p). */
+PetscBool SelfContactHandlesEdgePair(ClothSelfContact sc, PetscInt e1, PetscInt e2, const PetscInt p[4]);
+
+/* Each piece's exclusion ring: at least exclude_ring, and wide enough that particles closer in the pattern than
+   exclude_thicknesses x thickness never collide (a flat layer's own neighbourhood, and a fold tighter than the
+   thickness allows). Collective. */
+PetscErrorCode SelfContactSetExclusionRings(ClothSelfContact sc);
 
 /* The remote particles' entries of global (the cloth's state) into remote. Collective. */
 PetscErrorCode SelfContactRefreshRemote(ClothSelfContact sc, Vec global, Vec remote);

@@ -18,14 +18,20 @@ static void Separation(const PetscReal *const xs[SELF_CONTACT_NP], const PetscRe
   }
 }
 
-/* Is the contact closer than radius plus the relative travel of its closest points over the step
-   (ds: the particles' displacements over the step; NULL: none)? */
+/* Does the contact come within radius of closing during the step: the smallest distance |r + t dr|, t in [0, 1], of its
+   separation r (closest points at the step's start, weights frozen) moving by the relative travel dr of those points
+   over the step (ds: the particles' displacements over the step; NULL: none, then |r| alone)? A pair that the step
+   moves as one (a sheet falling as a whole, a layer sliding in its own plane) has dr = 0, however fast it moves. */
 static PetscBool Within(const ClothContact *contact, const PetscReal *const ds[SELF_CONTACT_NP], PetscReal radius)
 {
-  PetscReal travel[3] = {0, 0, 0};
+  PetscReal dr[3] = {0, 0, 0}, r[3], t = 0, dd;
 
-  if (ds) Separation(ds, contact->a, travel);
-  return contact->distance < radius + PetscSqrtReal(Dot3(travel, travel)) ? PETSC_TRUE : PETSC_FALSE;
+  if (ds) Separation(ds, contact->a, dr);
+  dd = Dot3(dr, dr);
+  for (PetscInt c = 0; c < 3; c++) r[c] = contact->r[c];
+  if (dd > 0) t = PetscMin(1.0, PetscMax(0.0, -Dot3(r, dr) / dd));
+  for (PetscInt c = 0; c < 3; c++) r[c] += t * dr[c];
+  return Dot3(r, r) < radius * radius ? PETSC_TRUE : PETSC_FALSE;
 }
 
 /* The contact of particle xs[0] with triangle xs[1..3], if within radius (see Within). */
@@ -34,11 +40,26 @@ static void TestPointTriangle(const PetscReal *const xs[SELF_CONTACT_NP], const 
   PetscReal w[3], r[3];
 
   GeometryClosestPointTriangle(xs[0], xs[1], xs[2], xs[3], w);
-  contact->kind = CLOTH_CONTACT_POINT_TRIANGLE;
+  contact->kind  = CLOTH_CONTACT_POINT_TRIANGLE;
+  contact->scale = 1;
   contact->a[0] = 1, contact->a[1] = -w[0], contact->a[2] = -w[1], contact->a[3] = -w[2];
   Separation(xs, contact->a, r);
+  for (PetscInt c = 0; c < 3; c++) contact->r[c] = r[c];
   contact->distance = PetscSqrtReal(Dot3(r, r));
   *hit              = Within(contact, ds, radius);
+}
+
+/* The share of an edge-edge contact's repulsion: 1 where its closest points lie well inside both edges, falling to 0
+   as either reaches an end of its edge (within SELF_CONTACT_EDGE_RAMP of it). At an end it is a particle that comes
+   near the other edge, which its point-triangle contact (NearestOnFabric) holds; the ramp lets the edge pair's force
+   fade in and out continuously instead of doubling it, so that only edges that cross (in the projection along their
+   separation) repel: a few per edge of a facing layer, however fine its grid. */
+#define SELF_CONTACT_EDGE_RAMP 0.1
+static PetscReal EdgePairScale(const ClothContact *contact)
+{
+  const PetscReal s = contact->a[1], t = -contact->a[3];
+
+  return PetscMax(0.0, PetscMin(1.0, PetscMin(PetscMin(s, 1 - s), PetscMin(t, 1 - t)) / SELF_CONTACT_EDGE_RAMP));
 }
 
 /* The contact of edge xs[0] xs[1] with edge xs[2] xs[3], if within radius (see Within). */
@@ -49,23 +70,11 @@ static void TestEdgeEdge(const PetscReal *const xs[SELF_CONTACT_NP], const Petsc
   GeometryClosestPointsSegments(xs[0], xs[1], xs[2], xs[3], &s, &t);
   contact->kind = CLOTH_CONTACT_EDGE_EDGE;
   contact->a[0] = 1 - s, contact->a[1] = s, contact->a[2] = -(1 - t), contact->a[3] = -t;
+  contact->scale = EdgePairScale(contact);
   Separation(xs, contact->a, r);
+  for (PetscInt c = 0; c < 3; c++) contact->r[c] = r[c];
   contact->distance = PetscSqrtReal(Dot3(r, r));
   *hit              = Within(contact, ds, radius);
-}
-
-/* The box of the n points xs, inflated by inflate. */
-static void BoxOf(const PetscReal *const xs[], PetscInt n, PetscReal inflate, PetscReal box[6])
-{
-  for (PetscInt c = 0; c < 3; c++) {
-    box[c] = box[3 + c] = xs[0][c];
-    for (PetscInt k = 1; k < n; k++) {
-      box[c]     = PetscMin(box[c], xs[k][c]);
-      box[3 + c] = PetscMax(box[3 + c], xs[k][c]);
-    }
-    box[c] -= inflate;
-    box[3 + c] += inflate;
-  }
 }
 
 /* Do the boxes a and b (6 reals: low corner, high corner) overlap? */
@@ -155,16 +164,43 @@ PetscErrorCode SelfContactBuildGridPositions(ClothSelfContact sc, Scene scene, C
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* Are the primitives with particles pa[0..na) and pb[0..nb) (natural) too close in one piece to collide (the ring
-   exclusion, or same_piece off)? These exclusions never change: the candidate list leaves such pairs out. */
-static PetscBool RingExcluded(ClothSelfContact sc, const PetscInt pa[], PetscInt na, const PetscInt pb[], PetscInt nb)
+PetscErrorCode SelfContactSetExclusionRings(ClothSelfContact sc)
+{
+  const ClothLayout *layout = &sc->layout;
+  const PetscInt     npieces = layout->model->npieces;
+  PetscReal         *spacing;
+
+  PetscFunctionBeginUser;
+  /* each piece's shortest link between grid neighbours at rest (a rank evaluates some links of a piece, or none) */
+  PetscCall(PetscMalloc1(npieces, &spacing));
+  PetscCall(PetscMalloc1(npieces, &sc->ring));
+  for (PetscInt k = 0; k < npieces; k++) spacing[k] = PETSC_MAX_REAL;
+  for (PetscInt l = 0; l < layout->nlinks; l++) {
+    const PetscInt g0 = layout->natural_of_local[layout->links[l].p[0]], g1 = layout->natural_of_local[layout->links[l].p[1]];
+    if (sc->piece_of[g0] != sc->piece_of[g1] || PetscAbsInt(sc->grid_i[g0] - sc->grid_i[g1]) + PetscAbsInt(sc->grid_j[g0] - sc->grid_j[g1]) != 1) continue; /* not a thread link */
+    spacing[sc->piece_of[g0]] = PetscMin(spacing[sc->piece_of[g0]], layout->link_params[layout->links[l].param].rest);
+  }
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, spacing, (PetscMPIInt)npieces, MPIU_REAL, MPIU_MIN, sc->comm));
+  /* particles (R + 1) rings apart lie at least (R + 1) spacings apart in the pattern */
+  for (PetscInt k = 0; k < npieces; k++) {
+    const PetscReal rings = spacing[k] < PETSC_MAX_REAL ? sc->exclude_thicknesses * sc->thickness / spacing[k] : 0;
+    sc->ring[k]           = PetscMax(sc->exclude_ring, (PetscInt)PetscCeilReal(rings) - 1);
+  }
+  PetscCall(PetscFree(spacing));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Are the primitives with particles pa[0..na) and pb[0..nb) (natural) too close in one piece to collide (within the
+   piece's exclusion ring, SelfContactSetExclusionRings, or same_piece off)? These exclusions never change: the
+   search leaves such pairs out before any geometry. */
+PetscBool SelfContactRingExcluded(ClothSelfContact sc, const PetscInt pa[], PetscInt na, const PetscInt pb[], PetscInt nb)
 {
   for (PetscInt i = 0; i < na; i++)
     for (PetscInt j = 0; j < nb; j++) {
-      const PetscInt a = pa[i], b = pb[j];
-      if (sc->piece_of[a] == sc->piece_of[b]) {
+      const PetscInt a = pa[i], b = pb[j], piece = sc->piece_of[a];
+      if (piece == sc->piece_of[b]) {
         const PetscInt ring = PetscMax(PetscAbsInt(sc->grid_i[a] - sc->grid_i[b]), PetscAbsInt(sc->grid_j[a] - sc->grid_j[b]));
-        if (!sc->same_piece || ring <= sc->exclude_ring) return PETSC_TRUE;
+        if (!sc->same_piece || ring <= sc->ring[piece]) return PETSC_TRUE;
       }
     }
   return PETSC_FALSE;
@@ -186,7 +222,7 @@ static PetscErrorCode CallbackExcluded(ClothSelfContact sc, const PetscInt pa[],
 static PetscErrorCode Excluded(ClothSelfContact sc, const PetscInt pa[], PetscInt na, const PetscInt pb[], PetscInt nb, PetscBool *excluded)
 {
   PetscFunctionBeginUser;
-  *excluded = RingExcluded(sc, pa, na, pb, nb);
+  *excluded = SelfContactRingExcluded(sc, pa, na, pb, nb);
   if (!*excluded) PetscCall(CallbackExcluded(sc, pa, na, pb, nb, excluded));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -421,42 +457,6 @@ static PetscErrorCode SortContacts(ClothSelfContact sc)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* Primitives (nv vertices each) whose vertices are all present here, with their boxes at the current positions
-   inflated by inflate; also the longest edge among them. */
-static PetscErrorCode CollectPrimitives(ClothSelfContact sc, PetscInt nv, const PetscInt prim[], const PetscInt start[], const PetscInt of[], PetscInt mark[], PetscReal inflate, PetscInt *n, PetscInt **list, PetscReal **boxes, PetscReal *longest)
-{
-  const PetscInt nparticles = sc->layout.nlocal + sc->nremote;
-
-  PetscFunctionBeginUser;
-  *n = 0;
-  sc->visit++;
-  PetscCall(PetscMalloc1(start[sc->layout.nglobal] + 1, list));
-  for (PetscInt k = 0; k < nparticles; k++) {
-    const PetscInt g = sc->natural_of[k];
-    for (PetscInt q = start[g]; q < start[g + 1]; q++) {
-      const PetscInt t       = of[q];
-      PetscBool      present = PETSC_TRUE;
-      if (mark[t] == sc->visit) continue;
-      mark[t] = sc->visit;
-      for (PetscInt v = 0; v < nv; v++)
-        if (sc->contact_index[prim[nv * t + v]] < 0) present = PETSC_FALSE;
-      if (present) (*list)[(*n)++] = t;
-    }
-  }
-  PetscCall(PetscMalloc1(6 * *n + 1, boxes));
-  for (PetscInt k = 0; k < *n; k++) {
-    const PetscReal *xs[3];
-    for (PetscInt v = 0; v < nv; v++) xs[v] = &sc->x[3 * sc->contact_index[prim[nv * (*list)[k] + v]]];
-    BoxOf(xs, nv, inflate, &(*boxes)[6 * k]);
-    for (PetscInt v = 0; v < nv; v++) {
-      const PetscReal *b    = xs[(v + 1) % nv];
-      PetscReal        d[3] = {b[0] - xs[v][0], b[1] - xs[v][1], b[2] - xs[v][2]};
-      *longest              = PetscMax(*longest, PetscSqrtReal(Dot3(d, d)));
-    }
-  }
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
 /* The box of every particle present here, at the start and the end of the step, inflated by inflate:
    the region the cell grids cover. */
 static void ContactRegion(ClothSelfContact sc, PetscReal inflate, PetscReal region[6])
@@ -471,13 +471,6 @@ static void ContactRegion(ClothSelfContact sc, PetscReal inflate, PetscReal regi
     }
   if (n == 0)
     for (PetscInt c = 0; c < 3; c++) region[c] = region[3 + c] = 0;
-}
-
-/* The cap on the cells of a search grid: a few per particle present, so that memory follows the particles
-   whatever the spread of the region (cells grow instead). */
-static PetscInt SelfContactMaxCells(ClothSelfContact sc)
-{
-  return 8 * (sc->layout.nlocal + sc->nremote) + 64;
 }
 
 /* ------------------------------------------------------------------------------------------------ */
@@ -541,113 +534,105 @@ static PetscErrorCode CheckSearchFinite(ClothSelfContact sc, const PetscReal reg
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* Candidates: every owned particle against the triangles within reach (the triangles' boxes are inflated by it) that
-   it lies closer than reach to. */
-static PetscErrorCode FindPointTriangle(ClothSelfContact sc, PetscReal reach, const PetscReal region[6], PetscReal cell, PetscInt ntri, const PetscInt tris[], const PetscReal boxes[])
+/* Positions of natural particles: x[3 index[g]] (index NULL: x[3 g], the whole fabric in natural order); a particle
+   with index[g] < 0 is not present. */
+typedef struct {
+  const PetscReal *x;
+  const PetscInt  *index;
+} SelfContactPositions;
+
+static inline const PetscReal *PositionOf(const SelfContactPositions *P, PetscInt g)
 {
-  CellGrid        g = sc->triangle_grid;
-  PetscInt        n[3];
-  const PetscInt *start, *item;
+  return &P->x[3 * (P->index ? P->index[g] : g)];
+}
 
-  PetscFunctionBeginUser;
-  PetscCall(CellGridBuild(g, region, region + 3, cell, SelfContactMaxCells(sc), ntri, boxes, boxes + 3, 6));
-  CellGridGetCells(g, n, &start, &item);
-  for (PetscInt k = 0; k < sc->layout.nlocal; k++) {
-    const PetscReal *p = &sc->x[3 * k];
-    PetscReal        pbox[6];
-    PetscInt         lo[3], hi[3];
+/* Squared distance from p to triangle t, computed alike wherever it is asked. */
+static PetscReal TriangleDistance2(ClothSelfContact sc, const SelfContactPositions *P, const PetscReal p[3], PetscInt t)
+{
+  const PetscInt  *v = &sc->tri[3 * t];
+  const PetscReal *a = PositionOf(P, v[0]), *b = PositionOf(P, v[1]), *c = PositionOf(P, v[2]);
+  PetscReal        w[3], r[3];
 
-    BoxOf(&p, 1, 0.0, pbox);
-    CellGridGetCellRange(g, pbox, pbox + 3, lo, hi);
-    sc->visit++;
-    for (PetscInt i = lo[0]; i <= hi[0]; i++)
-      for (PetscInt j = lo[1]; j <= hi[1]; j++)
-        for (PetscInt l = lo[2]; l <= hi[2]; l++) {
-          const PetscInt c = CellGridCellIndex(n, i, j, l);
-          for (PetscInt q = start[c]; q < start[c + 1]; q++) {
-            const PetscInt   tid = tris[item[q]], *t = &sc->tri[3 * tid];
-            const PetscReal *xs[SELF_CONTACT_NP];
-            ClothContact     contact;
-            PetscBool        hit;
+  GeometryClosestPointTriangle(p, a, b, c, w);
+  for (PetscInt k = 0; k < 3; k++) r[k] = p[k] - w[0] * a[k] - w[1] * b[k] - w[2] * c[k];
+  return Dot3(r, r);
+}
 
-            if (sc->tri_mark[tid] == sc->visit) continue;
-            sc->tri_mark[tid] = sc->visit;
-            if (!Boxes6Overlap(pbox, &boxes[6 * item[q]])) continue;
-            contact.p[0] = sc->natural_of[k];
-            for (PetscInt v = 0; v < 3; v++) contact.p[1 + v] = t[v];
-            if (RingExcluded(sc, contact.p, 1, t, 3)) continue;
-            xs[0] = p;
-            for (PetscInt v = 0; v < 3; v++) xs[1 + v] = &sc->x[3 * sc->contact_index[t[v]]];
-            TestPointTriangle(xs, NULL, reach, &contact, &hit);
-            if (hit) PetscCall(AppendCandidate(sc, CLOTH_CONTACT_POINT_TRIANGLE, contact.p));
-          }
-        }
+/* Are triangle t's particles all present? */
+static PetscBool TrianglePresent(ClothSelfContact sc, const SelfContactPositions *P, PetscInt t)
+{
+  for (PetscInt k = 0; k < 3 && P->index; k++)
+    if (P->index[sc->tri[3 * t + k]] < 0) return PETSC_FALSE;
+  return PETSC_TRUE;
+}
+
+/* Is triangle t the nearest to particle me (at p) among the triangles that share a particle with it and are not
+   excluded from contact with me (a tie goes to the lower triangle number)? Where the distance from me to the fabric,
+   taken without me's excluded neighbourhood, has a local minimum, exactly one triangle around it is: a particle facing
+   a layer meets one triangle of it, the one under it, however fine the layer's grid, rather than every triangle within
+   the thickness. As the particle moves the nearest passes to a neighbour where the two are equally near, at a point
+   they share, so the force does not jump (nor between runs on different ranks, whose rounding may pick the other of
+   two equal triangles). Near me's own neighbourhood the minimum lies at the edge of the exclusion, which holds a tight
+   fold apart and lies farther than the thickness in a flat layer (SelfContactSetExclusionRings). The search brings
+   every particle within two links of a candidate's, so the triangles compared are present wherever the pair is
+   examined. */
+static PetscBool NearestOnFabric(ClothSelfContact sc, const SelfContactPositions *P, PetscInt me, const PetscReal p[3], PetscInt t)
+{
+  const PetscReal d2 = TriangleDistance2(sc, P, p, t);
+
+  for (PetscInt k = 0; k < 3; k++) {
+    const PetscInt v = sc->tri[3 * t + k];
+    for (PetscInt q = sc->tri_start[v]; q < sc->tri_start[v + 1]; q++) {
+      const PetscInt o = sc->tri_of[q];
+      PetscReal      d2o;
+
+      if (o == t || !TrianglePresent(sc, P, o) || SelfContactRingExcluded(sc, &me, 1, &sc->tri[3 * o], 3)) continue;
+      d2o = TriangleDistance2(sc, P, p, o);
+      if (d2o < d2 || (d2o == d2 && o < t)) return PETSC_FALSE;
+    }
   }
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-/* Two overlapping boxes (items a and b) share several cells; the pair is examined only in the one
-   holding the low corner of their intersection (whose cell is the larger of their low cells, per
-   axis), so that it is met once without marking. */
-static PetscBool CellOwnsPair(const PetscInt low_cell[], PetscInt a, PetscInt b, PetscInt i, PetscInt j, PetscInt l)
-{
-  const PetscInt *ca = &low_cell[3 * a], *cb = &low_cell[3 * b];
-
-  return (PetscMax(ca[0], cb[0]) == i && PetscMax(ca[1], cb[1]) == j && PetscMax(ca[2], cb[2]) == l) ? PETSC_TRUE : PETSC_FALSE;
-}
-
-static PetscBool EdgeHasOwned(ClothSelfContact sc, PetscInt e)
-{
-  return (sc->contact_index[sc->edge[2 * e]] < sc->layout.nlocal || sc->contact_index[sc->edge[2 * e + 1]] < sc->layout.nlocal) ? PETSC_TRUE : PETSC_FALSE;
+  return PETSC_TRUE;
 }
 
 /* Is this rank the one that handles the edge-edge contact of edges e1 and e2 (particles p)? Any owner
    of one of its particles has all four (the exchange margin covers two edges and the radius), so the
    owner of particle (e1 + e2) mod 4 is chosen: a rule that spreads contacts between two pieces owned
    by two ranks over both, where "the lowest particle" would give them all to one. */
-static PetscBool HandlesEdgePair(ClothSelfContact sc, PetscInt e1, PetscInt e2, const PetscInt p[4])
+PetscBool SelfContactHandlesEdgePair(ClothSelfContact sc, PetscInt e1, PetscInt e2, const PetscInt p[4])
 {
   return sc->layout.part[p[(e1 + e2) % 4]] == sc->rank ? PETSC_TRUE : PETSC_FALSE;
 }
 
-/* Candidates: every edge with an owned particle against the edges in the cells its box touches (boxes inflated by
-   half the reach) that it comes closer than reach to. */
-static PetscErrorCode FindEdgeEdge(ClothSelfContact sc, PetscReal reach, const PetscReal region[6], PetscReal cell, PetscInt nedge, const PetscInt edges[], const PetscReal boxes[])
+/* The candidates of this step's pairs of primitives (SelfContactPairPrimitives, in sc->kept_pairs): those that come
+   within rho during the step (Within), a particle-triangle pair where the triangle holds the particle's nearest point on
+   the fabric (NearestOnFabric), an edge pair whose closest points lie inside both edges (EdgePairScale). */
+static PetscErrorCode TestPrimitivePairs(ClothSelfContact sc, PetscReal rho)
 {
-  CellGrid        g = sc->edge_grid;
-  PetscInt        lo[3], hi[3], n[3];
-  const PetscInt *start, *item, *low_cell;
+  const SelfContactPositions here = {sc->x, sc->contact_index};
 
   PetscFunctionBeginUser;
-  PetscCall(CellGridBuild(g, region, region + 3, cell, SelfContactMaxCells(sc), nedge, boxes, boxes + 3, 6));
-  CellGridGetCells(g, n, &start, &item);
-  CellGridGetItemLowCells(g, &low_cell);
-  for (PetscInt k1 = 0; k1 < nedge; k1++) {
-    const PetscInt e1 = edges[k1];
-    if (!EdgeHasOwned(sc, e1)) continue;
-    CellGridGetCellRange(g, &boxes[6 * k1], &boxes[6 * k1 + 3], lo, hi);
-    for (PetscInt i = lo[0]; i <= hi[0]; i++)
-      for (PetscInt j = lo[1]; j <= hi[1]; j++)
-        for (PetscInt l = lo[2]; l <= hi[2]; l++) {
-          const PetscInt c = CellGridCellIndex(n, i, j, l);
-          for (PetscInt q = start[c]; q < start[c + 1]; q++) {
-            const PetscInt   k2 = item[q], e2 = edges[k2], first = PetscMin(e1, e2), second = PetscMax(e1, e2);
-            const PetscReal *xs[SELF_CONTACT_NP];
-            ClothContact     contact;
-            PetscBool        hit;
+  for (PetscInt k = 0; k < sc->nkept_pairs; k++) {
+    const SelfContactPrimitivePair *pair = &sc->kept_pairs[k];
+    const PetscReal                *xs[SELF_CONTACT_NP], *ds[SELF_CONTACT_NP];
+    ClothContact                    contact;
+    PetscBool                       hit;
 
-            if (e2 <= e1 && (e2 == e1 || EdgeHasOwned(sc, e2))) continue; /* itself, or found from e2 */
-            if (!CellOwnsPair(low_cell, k1, k2, i, j, l)) continue;       /* met in another cell */
-            if (!Boxes6Overlap(&boxes[6 * k1], &boxes[6 * k2])) continue;
-            contact.p[0] = sc->edge[2 * first], contact.p[1] = sc->edge[2 * first + 1];
-            contact.p[2] = sc->edge[2 * second], contact.p[3] = sc->edge[2 * second + 1];
-            if (!HandlesEdgePair(sc, e1, e2, contact.p)) continue;
-            if (RingExcluded(sc, contact.p, 2, &contact.p[2], 2)) continue;
-            for (PetscInt v = 0; v < 4; v++) xs[v] = &sc->x[3 * sc->contact_index[contact.p[v]]];
-            TestEdgeEdge(xs, NULL, reach, &contact, &hit);
-            if (hit) PetscCall(AppendCandidate(sc, CLOTH_CONTACT_EDGE_EDGE, contact.p));
-          }
-        }
+    if (pair->kind == CLOTH_CONTACT_POINT_TRIANGLE) {
+      contact.p[0] = pair->a;
+      for (PetscInt v = 0; v < 3; v++) contact.p[1 + v] = sc->tri[3 * pair->b + v];
+    } else {
+      contact.p[0] = sc->edge[2 * pair->a], contact.p[1] = sc->edge[2 * pair->a + 1];
+      contact.p[2] = sc->edge[2 * pair->b], contact.p[3] = sc->edge[2 * pair->b + 1];
+    }
+    for (PetscInt v = 0; v < SELF_CONTACT_NP; v++) xs[v] = &sc->x[3 * sc->contact_index[contact.p[v]]], ds[v] = &sc->dx[3 * sc->contact_index[contact.p[v]]];
+    if (pair->kind == CLOTH_CONTACT_POINT_TRIANGLE) {
+      TestPointTriangle(xs, ds, rho, &contact, &hit);
+      if (hit) hit = NearestOnFabric(sc, &here, pair->a, xs[0], pair->b);
+    } else {
+      TestEdgeEdge(xs, ds, rho, &contact, &hit);
+      if (hit) hit = contact.scale > 0 ? PETSC_TRUE : PETSC_FALSE;
+    }
+    if (hit) PetscCall(AppendCandidate(sc, pair->kind, contact.p));
   }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -682,51 +667,68 @@ static PetscErrorCode LongestLink(ClothSelfContact sc, PetscReal *longest)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* motion[0]: the largest displacement of a particle since the candidate list was built (infinite when there is no
-   list); motion[1]: the largest travel h |v| over the step (0 without velocity); both over all ranks, infinite when
-   a value is not finite (the build then checks the state). One reduction: the only one of a search that reuses the
-   list. Collective. */
-static PetscErrorCode ParticleMotion(ClothSelfContact sc, Vec velocity, PetscReal h, PetscReal motion[2])
+/* change[0]: the largest displacement of an owned particle since the candidates were found (infinite when there are
+   none); change[1]: the largest change of an owned particle's displacement over the step, h v, since then; both over
+   all ranks, infinite when a value is not finite (the search then checks the state). One reduction: the only one of
+   a search that keeps the candidates. Collective. */
+static PetscErrorCode CandidateChange(ClothSelfContact sc, Vec velocity, PetscReal h, PetscReal change[2])
 {
   const PetscInt     n        = sc->layout.nlocal;
   PetscReal          local[2] = {0, 0};
-  const PetscScalar *x, *v;
+  const PetscScalar *x, *v = NULL;
 
   PetscFunctionBeginUser;
+  if (!sc->list_valid) local[0] = local[1] = PETSC_INFINITY;
   PetscCall(VecGetArrayRead(sc->position, &x));
-  if (!sc->list_valid) local[0] = PETSC_INFINITY;
+  if (velocity) PetscCall(VecGetArrayRead(velocity, &v));
   for (PetscInt i = 0; i < n && sc->list_valid; i++) {
-    const PetscReal d[3] = {PetscRealPart(x[3 * i]) - sc->x0[3 * i], PetscRealPart(x[3 * i + 1]) - sc->x0[3 * i + 1], PetscRealPart(x[3 * i + 2]) - sc->x0[3 * i + 2]}, dd = Dot3(d, d);
-    local[0] = PetscIsInfOrNanReal(dd) ? PETSC_INFINITY : PetscMax(local[0], dd); /* PetscMax would drop a NaN */
-  }
-  PetscCall(VecRestoreArrayRead(sc->position, &x));
-  if (velocity && h > 0) {
-    PetscCall(VecGetArrayRead(velocity, &v));
-    for (PetscInt i = 0; i < n; i++) {
-      const PetscReal vv = PetscRealPart(v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] + v[3 * i + 2] * v[3 * i + 2]);
-      local[1]           = PetscIsInfOrNanReal(vv) ? PETSC_INFINITY : PetscMax(local[1], vv);
+    PetscReal dxx = 0, dvv = 0;
+    for (PetscInt c = 0; c < 3; c++) {
+      dxx += PetscSqr(PetscRealPart(x[3 * i + c]) - sc->x0[3 * i + c]);
+      dvv += PetscSqr((v ? h * PetscRealPart(v[3 * i + c]) : 0.0) - sc->dx0[3 * i + c]);
     }
-    PetscCall(VecRestoreArrayRead(velocity, &v));
+    local[0] = PetscIsInfOrNanReal(dxx) ? PETSC_INFINITY : PetscMax(local[0], dxx); /* PetscMax would drop a NaN */
+    local[1] = PetscIsInfOrNanReal(dvv) ? PETSC_INFINITY : PetscMax(local[1], dvv);
   }
+  if (velocity) PetscCall(VecRestoreArrayRead(velocity, &v));
+  PetscCall(VecRestoreArrayRead(sc->position, &x));
   local[0] = PetscSqrtReal(local[0]);
-  local[1] = h * PetscSqrtReal(local[1]);
-  PetscCallMPI(MPI_Allreduce(local, motion, 2, MPIU_REAL, MPIU_MAX, sc->comm));
+  local[1] = PetscSqrtReal(local[1]);
+  PetscCallMPI(MPI_Allreduce(local, change, 2, MPIU_REAL, MPIU_MAX, sc->comm));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* A candidate list is built again when its motion budget exceeds this many times what the current step needs. */
-#define SELF_CONTACT_LIST_OVERSIZE 2.0
-
-/* Builds the candidate list for searches within radius at the current state, and allowing travel (the largest
-   h |v| now) plus the skin (a fraction of the radius) of motion before the next build: exchange of the particles near
-   other ranks within its reach and the cell grids. *ok false: the state is not finite (no list). Collective. */
-static PetscErrorCode BuildCandidates(ClothSelfContact sc, PetscReal radius, Vec velocity, PetscReal h, PetscReal travel, PetscBool *ok)
+/* The largest travel h |v| of a particle over the step, over all ranks (infinite when not finite). Collective. */
+static PetscErrorCode LargestTravel(ClothSelfContact sc, Vec velocity, PetscReal h, PetscReal *travel)
 {
-  const PetscReal    budget = sc->skin * radius + travel, reach = radius + 2 * budget;
+  const PetscScalar *v;
+  PetscReal          local = 0;
+
+  PetscFunctionBeginUser;
+  *travel = 0;
+  if (!velocity) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(VecGetArrayRead(velocity, &v));
+  for (PetscInt i = 0; i < sc->layout.nlocal; i++) {
+    const PetscReal vv = PetscRealPart(v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] + v[3 * i + 2] * v[3 * i + 2]);
+    local              = PetscIsInfOrNanReal(vv) ? PETSC_INFINITY : PetscMax(local, vv);
+  }
+  PetscCall(VecRestoreArrayRead(velocity, &v));
+  local = h * PetscSqrtReal(local);
+  PetscCallMPI(MPI_Allreduce(&local, travel, 1, MPIU_REAL, MPIU_MAX, sc->comm));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Finds the candidates of searches within radius at the current positions, for displacements over the step that
+   differ from h velocity by at most the margin (skin x radius) per particle: the pairs that come within
+   rho = radius + 2 margin during the step, each found from the boxes its primitives sweep over the step, so that the
+   particles' common motion adds nothing; with the exchange of the particles near other ranks and the cell grids.
+   *ok false: the state is not finite (no candidates). Collective. */
+static PetscErrorCode BuildCandidates(ClothSelfContact sc, PetscReal radius, Vec velocity, PetscReal h, PetscBool *ok)
+{
+  const PetscReal    margin = sc->velocity_margin * radius, rho = radius + 2 * margin;
   const PetscScalar *x;
-  PetscReal          link, longest = 0, region[6], far;
-  PetscInt           nrecv, *recv, ntri, nedge, *tris, *edges, nonfinite, farthest;
-  PetscReal         *tboxes, *eboxes;
+  PetscReal          link, travel, region[6], far;
+  PetscInt           nrecv, *recv, nonfinite, farthest;
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(ClothLog.self_build, 0, 0, 0, 0));
@@ -735,14 +737,16 @@ static PetscErrorCode BuildCandidates(ClothSelfContact sc, PetscReal radius, Vec
   sc->ncandidates    = 0;
   *ok                = PETSC_FALSE;
   PetscCall(LongestLink(sc, &link));
+  PetscCall(LargestTravel(sc, velocity, h, &travel));
   PetscCall(VecGetArrayRead(sc->position, &x));
-  /* a contact's handler owns one of its particles; the others lie within reach + 2 triangle edges */
-  PetscCall(ExchangeNearParticles(sc, x, reach + 4 * link, &nrecv, &recv));
+  /* a pair's handler owns one of its particles; the others lie within rho, both primitives' travels and two triangle
+     edges (four links), and the triangles that NearestOnFabric compares two links further */
+  PetscCall(ExchangeNearParticles(sc, x, rho + 2 * travel + 6 * link, &nrecv, &recv));
   PetscCall(VecRestoreArrayRead(sc->position, &x));
   PetscCall(SetRemoteParticles(sc, nrecv, recv));
   PetscCall(SetContactLocalNumbering(sc));
   PetscCall(LoadContactLocalState(sc, velocity, h));
-  ContactRegion(sc, reach, region);
+  ContactRegion(sc, rho, region);
   PetscCall(CheckSearchFinite(sc, region, &nonfinite, &farthest, &far));
   if (nonfinite >= 0) {
     /* a diverged state has no meaningful contacts; the integrator's test of the state at the end of the
@@ -756,28 +760,25 @@ static PetscErrorCode BuildCandidates(ClothSelfContact sc, PetscReal radius, Vec
              "Self-collision: the region that the particles sweep over a step of %g s, widened by the contact radius %g m, is too large for a cell grid: particle %" PetscInt_FMT
              " (natural numbering) reaches %g m from the origin. The state has diverged, or the self-collision thickness is far too large",
              (double)h, (double)radius, farthest, (double)far);
-  PetscCall(CollectPrimitives(sc, 3, sc->tri, sc->tri_start, sc->tri_of, sc->tri_mark, reach, &ntri, &tris, &tboxes, &longest));
-  PetscCall(CollectPrimitives(sc, 2, sc->edge, sc->edge_start, sc->edge_of, sc->edge_mark, 0.5 * reach, &nedge, &edges, &eboxes, &longest));
-  PetscCall(FindPointTriangle(sc, reach, region, PetscMax(reach, longest), ntri, tris, tboxes));
-  PetscCall(FindEdgeEdge(sc, reach, region, PetscMax(reach, longest), nedge, edges, eboxes));
-  PetscCall(PetscFree(tris));
-  PetscCall(PetscFree(tboxes));
-  PetscCall(PetscFree(edges));
-  PetscCall(PetscFree(eboxes));
+  PetscCall(SelfContactPairPrimitives(sc, region, rho, sc->skin * radius));
+  PetscCall(TestPrimitivePairs(sc, rho));
   sc->any_candidates = sc->ncandidates > 0 ? PETSC_TRUE : PETSC_FALSE;
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &sc->any_candidates, 1, MPIU_BOOL, MPI_LOR, sc->comm));
-  PetscCall(PetscArraycpy(sc->x0, sc->x, 3 * (sc->layout.nlocal + sc->nremote)));
+  PetscCall(PetscArraycpy(sc->x0, sc->x, 3 * sc->layout.nlocal));
+  PetscCall(PetscArraycpy(sc->dx0, sc->dx, 3 * sc->layout.nlocal));
   sc->list_valid  = PETSC_TRUE;
   sc->list_radius = radius;
-  sc->list_budget = budget;
+  sc->list_margin = margin;
   sc->builds++;
   sc->candidates_built += sc->ncandidates;
-  *ok = PETSC_TRUE;
+  sc->candidates_max = PetscMax(sc->candidates_max, sc->ncandidates);
+  *ok                = PETSC_TRUE;
   PetscCall(PetscLogEventEnd(ClothLog.self_build, 0, 0, 0, 0));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* The contacts: the candidates within radius plus their travel (see Within) that the exclusion callback allows. */
+/* The contacts: the candidates that come within radius during the step (see Within) and that the exclusion callback
+   allows. */
 static PetscErrorCode FilterCandidates(ClothSelfContact sc, PetscReal radius)
 {
   PetscFunctionBeginUser;
@@ -809,24 +810,23 @@ static PetscErrorCode FilterCandidates(ClothSelfContact sc, PetscReal radius)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* All contacts within radius, plus the relative travel of their closest points over a step of h at
-   velocity (NULL: no travel), at the cloth's current positions. Collective. */
+/* All contacts within radius during a step of h at velocity (NULL: at the current positions), at the cloth's current
+   positions. The candidates found at these positions serve again while no particle's displacement over the step
+   differs from theirs by more than their margin (the velocity filter's search after the solve, at the same
+   positions); otherwise they are found anew. Collective. */
 PetscErrorCode SelfContactSearch(ClothSelfContact sc, PetscReal radius, Vec velocity, PetscReal h)
 {
-  PetscReal motion[2];
+  PetscReal change[2];
   PetscBool ok = PETSC_TRUE;
 
   PetscFunctionBeginUser;
-  PetscCall(ParticleMotion(sc, velocity, h, motion));
+  PetscCall(CandidateChange(sc, velocity, h, change));
   sc->ncontacts = 0;
-  /* kept while the particles stay within its budget, and while the budget is not oversized: a list built at a
-     moment of fast motion (its budget the step's travel then) has far more candidates than a slower step needs, and
-     each search filters them all (the 12 mm dress with -ksp_rtol 1e-4: 48 ms a filter against 2.5 ms) */
-  if (sc->list_valid && radius == sc->list_radius && motion[0] + motion[1] <= sc->list_budget && sc->list_budget <= SELF_CONTACT_LIST_OVERSIZE * (sc->skin * radius + motion[1])) {
+  if (sc->list_valid && radius == sc->list_radius && change[0] == 0 && change[1] <= sc->list_margin) {
     if (!sc->any_candidates) PetscFunctionReturn(PETSC_SUCCESS); /* no contact possible anywhere */
     PetscCall(LoadContactLocalState(sc, velocity, h));
   } else
-    PetscCall(BuildCandidates(sc, radius, velocity, h, motion[1], &ok));
+    PetscCall(BuildCandidates(sc, radius, velocity, h, &ok));
   if (ok) PetscCall(FilterCandidates(sc, radius));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -836,8 +836,9 @@ PetscErrorCode SelfContactSearch(ClothSelfContact sc, PetscReal radius, Vec velo
 
 PetscErrorCode ClothSelfContactFindBruteForce(ClothSelfContact sc, const PetscReal x[], PetscReal radius, PetscInt *n, ClothContact **contacts)
 {
-  const PetscInt nparticles = sc->layout.nglobal;
-  PetscInt       cap        = 64;
+  const SelfContactPositions all        = {x, NULL};
+  const PetscInt             nparticles = sc->layout.nglobal;
+  PetscInt                   cap        = 64;
 
   PetscFunctionBeginUser;
   *n = 0;
@@ -861,10 +862,13 @@ PetscErrorCode ClothSelfContactFindBruteForce(ClothSelfContact sc, const PetscRe
         }
         if (excluded) continue;
         for (PetscInt v = 0; v < SELF_CONTACT_NP; v++) xs[v] = &x[3 * contact.p[v]];
-        if (pass == 0)
+        if (pass == 0) {
           TestPointTriangle(xs, NULL, radius, &contact, &hit);
-        else
+          if (hit) hit = NearestOnFabric(sc, &all, a, xs[0], b);
+        } else {
           TestEdgeEdge(xs, NULL, radius, &contact, &hit);
+          if (hit) hit = contact.scale > 0 ? PETSC_TRUE : PETSC_FALSE;
+        }
         if (!hit) continue;
         if (*n == cap) {
           ClothContact *more;

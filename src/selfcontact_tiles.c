@@ -1,0 +1,769 @@
+/* ClothSelfContact, the broad phase of its search (see selfcontact_impl.h): the fabric cut into tiles of
+   SELF_CONTACT_TILE x SELF_CONTACT_TILE grid cells, the pairs of tiles near each other found on a cell grid of their
+   boxes, and for each such pair the pairs of primitives (particle-triangle, edge-edge) whose boxes come close, kept
+   over steps while the two tiles move as one.
+
+   Why tiles: the candidates must follow the geometry, not the speed. A primitive's own box swept over the step grows
+   with its speed, and a search of every primitive against its spatial neighbours at every step pays for the whole
+   area of every layer (its own flat neighbourhood, which the exclusion rule then throws away). Tiles move as units:
+   a pair of tiles whose relative motion and internal deformation since its primitives were paired stays below the
+   skin keeps its pairs (a sheet falling or sliding as a whole keeps them all), and neighbouring tiles of a layer
+   that is flat or gently curved are proved to hold no allowed pair at all (TilesApart), so the work of a step
+   follows the folds and the contacts, not the fabric's area or speed. Every test is conservative: the contacts are
+   those of a search from scratch. */
+#include "selfcontact_impl.h"
+#include "log.h"
+#include "vec3.h"
+
+/* ------------------------------------------------------------------------------------------------ */
+/* Static topology                                                                                  */
+
+/* The tile of cell or particle (i, j) of piece k: the last row and column of particles belong to the last tile. */
+static PetscInt TileOf(const ClothSelfContact sc, PetscInt k, PetscInt i, PetscInt j)
+{
+  const PetscInt *t = &sc->piece_tiles[SELF_CONTACT_PIECE_TILES * k]; /* first tile, tiles along i, along j, nu */
+
+  return t[0] + PetscMin(j / SELF_CONTACT_TILE, t[2] - 1) * t[1] + PetscMin(i / SELF_CONTACT_TILE, t[1] - 1);
+}
+
+PetscInt SelfContactParticleTile(const ClothSelfContact sc, PetscInt g)
+{
+  return TileOf(sc, sc->piece_of[g], sc->grid_i[g], sc->grid_j[g]);
+}
+
+/* The tile of a primitive: that of the cell at its lowest (i, j). */
+static PetscInt PrimitiveTile(const ClothSelfContact sc, const PetscInt v[], PetscInt nv)
+{
+  PetscInt i = sc->grid_i[v[0]], j = sc->grid_j[v[0]];
+
+  for (PetscInt k = 1; k < nv; k++) i = PetscMin(i, sc->grid_i[v[k]]), j = PetscMin(j, sc->grid_j[v[k]]);
+  return TileOf(sc, sc->piece_of[v[0]], i, j);
+}
+
+/* tile -> items (CSR) from each item's tile */
+static PetscErrorCode TileIncidence(PetscInt ntiles, PetscInt nitems, const PetscInt tile[], PetscInt **start, PetscInt **of)
+{
+  PetscInt *fill;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscCalloc1(ntiles + 1, start));
+  PetscCall(PetscCalloc1(ntiles + 1, &fill));
+  for (PetscInt k = 0; k < nitems; k++) (*start)[tile[k] + 1]++;
+  for (PetscInt t = 0; t < ntiles; t++) (*start)[t + 1] += (*start)[t];
+  PetscCall(PetscMalloc1((*start)[ntiles] + 1, of));
+  for (PetscInt k = 0; k < nitems; k++) (*of)[(*start)[tile[k]] + fill[tile[k]]++] = k;
+  PetscCall(PetscFree(fill));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The tiles of every piece, their index rectangles and their cells in the pattern. */
+static PetscErrorCode LayOutTiles(ClothSelfContact sc, Scene scene, ClothModel m)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscMalloc1(SELF_CONTACT_PIECE_TILES * m->npieces, &sc->piece_tiles));
+  sc->ntiles = 0;
+  for (PetscInt k = 0; k < m->npieces; k++) {
+    const PetscInt nu = scene->pieces[k].nu, nv = scene->pieces[k].nv, tu = PetscMax(1, (nu - 1 + SELF_CONTACT_TILE - 1) / SELF_CONTACT_TILE), tv = PetscMax(1, (nv - 1 + SELF_CONTACT_TILE - 1) / SELF_CONTACT_TILE);
+    PetscInt      *pt = &sc->piece_tiles[SELF_CONTACT_PIECE_TILES * k];
+
+    pt[0] = sc->ntiles, pt[1] = tu, pt[2] = tv, pt[3] = nu;
+    sc->ntiles += tu * tv;
+  }
+  PetscCall(PetscCalloc1(sc->ntiles, &sc->tiles));
+  for (PetscInt k = 0; k < m->npieces; k++) {
+    const PetscInt *pt = &sc->piece_tiles[SELF_CONTACT_PIECE_TILES * k];
+    for (PetscInt tj = 0; tj < pt[2]; tj++)
+      for (PetscInt ti = 0; ti < pt[1]; ti++) {
+        SelfContactTile *t = &sc->tiles[pt[0] + tj * pt[1] + ti];
+
+        t->piece = k, t->ti = ti, t->tj = tj;
+        t->i0 = ti * SELF_CONTACT_TILE, t->j0 = tj * SELF_CONTACT_TILE;
+        t->i1 = ti + 1 < pt[1] ? t->i0 + SELF_CONTACT_TILE : scene->pieces[k].nu - 1; /* last particle index */
+        t->j1 = tj + 1 < pt[2] ? t->j0 + SELF_CONTACT_TILE : scene->pieces[k].nv - 1;
+      }
+  }
+  for (PetscInt t = 0; t < sc->ntri; t += 2) sc->tiles[PrimitiveTile(sc, &sc->tri[3 * t], 3)].ncells++; /* two triangles a cell */
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode SelfContactBuildTiles(ClothSelfContact sc, Scene scene, ClothModel m)
+{
+  PetscInt *tile, n = PetscMax(PetscMax(m->nparticles, sc->ntri), sc->nedge);
+
+  PetscFunctionBeginUser;
+  PetscCall(LayOutTiles(sc, scene, m));
+  PetscCall(PetscMalloc1(n + 1, &tile));
+  for (PetscInt t = 0; t < sc->ntri; t++) tile[t] = PrimitiveTile(sc, &sc->tri[3 * t], 3);
+  PetscCall(TileIncidence(sc->ntiles, sc->ntri, tile, &sc->tile_tri_start, &sc->tile_tri_of));
+  for (PetscInt e = 0; e < sc->nedge; e++) tile[e] = PrimitiveTile(sc, &sc->edge[2 * e], 2);
+  PetscCall(TileIncidence(sc->ntiles, sc->nedge, tile, &sc->tile_edge_start, &sc->tile_edge_of));
+  for (PetscInt g = 0; g < m->nparticles; g++) tile[g] = SelfContactParticleTile(sc, g);
+  PetscCall(TileIncidence(sc->ntiles, m->nparticles, tile, &sc->tile_particle_start, &sc->tile_particle_of));
+  PetscCall(PetscFree(tile));
+  PetscCall(PetscMalloc3(sc->ntiles, &sc->tile_present, sc->ntiles, &sc->tile_mark, sc->ntiles, &sc->snapshots));
+  n = 0;
+  for (PetscInt t = 0; t < sc->ntiles; t++) n = PetscMax(n, PetscMax(sc->tile_tri_start[t + 1] - sc->tile_tri_start[t], sc->tile_edge_start[t + 1] - sc->tile_edge_start[t]));
+  sc->scratch_room = n + 1;
+  PetscCall(PetscMalloc3(2 * sc->scratch_room, &sc->scratch_ids, 12 * sc->scratch_room, &sc->scratch_ij, 12 * sc->scratch_room, &sc->scratch_boxes)); /* two tiles' primitives */
+  for (PetscInt t = 0; t < sc->ntiles; t++) sc->tile_present[t] = -1, sc->tile_mark[t] = 0, sc->snapshots[t] = NULL;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The natural indices of the particles of tile t's rectangle [i0, i1] x [j0, j1] (its own and those of its triangles
+   and edges in the next tiles' first row and column), at most SELF_CONTACT_CLOSURE; returns their number. */
+static PetscInt TileClosure(const ClothSelfContact sc, PetscInt t, PetscInt g[])
+{
+  const SelfContactTile *tile   = &sc->tiles[t];
+  const PetscInt         offset = sc->layout.model->piece_offset[tile->piece], nu = sc->piece_tiles[SELF_CONTACT_PIECE_TILES * tile->piece + 3];
+  PetscInt               n      = 0;
+
+  for (PetscInt j = tile->j0; j <= tile->j1; j++)
+    for (PetscInt i = tile->i0; i <= tile->i1; i++) g[n++] = offset + j * nu + i;
+  return n;
+}
+
+/* ------------------------------------------------------------------------------------------------ */
+/* Tile states                                                                                      */
+
+/* What a step knows of a present tile (one with a particle present here): whether its whole rectangle is here (every
+   particle present, every cell in the pattern) and any of it is this rank's. For a whole tile: its motion as a rigid
+   body since its snapshot, the rotation R (3 x 3, row-major) and the centroids c and ce of its positions at the step's
+   start and after the step's displacements, and its deformation def, the largest distance of a position from where
+   that rigid motion takes its snapshot position; and for TilesApart, how far its map from grid indices to space is from
+   affine (G, the mean of its triangles' gradients, 3 x 2, m per index, d/di then d/dj; eps, the largest Frobenius
+   distance of a triangle's gradient from G), and its displacements' mean mdx and largest departure from it, dev. Its
+   box (over the step, inflated) is kept apart, for the cell grid. */
+typedef struct {
+  PetscInt  tile;
+  PetscBool whole, owned;
+  PetscReal R[9], c[3], ce[3], def;
+  PetscReal G[6], eps, mdx[3], dev;
+} SelfContactTileState;
+
+/* A tile's snapshot, taken when its deformation outgrows a quarter of the skin: the orthonormal frame F0 of its mean
+   gradient then (row-major: the rows are the frame's axes) and its rectangle's positions at the step's start and after
+   the step's displacements relative to their centroids (6 per particle), and the largest of those distances, radius.
+   The pairs of primitives found for its pairs of tiles hold while it keeps its epoch. */
+struct _n_SelfContactSnapshot {
+  PetscInt  epoch;
+  PetscReal F0[9], radius;
+  PetscReal rel[6 * SELF_CONTACT_CLOSURE];
+};
+
+/* The gradient (3 x 2) of the affine map from grid indices to positions over triangle t (all present). */
+static void TriangleGradient(ClothSelfContact sc, PetscInt t, PetscReal grad[6])
+{
+  const PetscInt  *v = &sc->tri[3 * t];
+  const PetscReal *x0 = &sc->x[3 * sc->contact_index[v[0]]], *x1 = &sc->x[3 * sc->contact_index[v[1]]], *x2 = &sc->x[3 * sc->contact_index[v[2]]];
+  const PetscReal  a = sc->grid_i[v[1]] - sc->grid_i[v[0]], b = sc->grid_i[v[2]] - sc->grid_i[v[0]], c = sc->grid_j[v[1]] - sc->grid_j[v[0]], d = sc->grid_j[v[2]] - sc->grid_j[v[0]];
+  const PetscReal  det = a * d - b * c; /* [e1 e2] = grad [[a b] [c d]] */
+
+  for (PetscInt k = 0; k < 3; k++) {
+    const PetscReal e1 = x1[k] - x0[k], e2 = x2[k] - x0[k];
+    grad[k]     = (e1 * d - e2 * c) / det;
+    grad[3 + k] = (e2 * a - e1 * b) / det;
+  }
+}
+
+static PetscReal Distance6(const PetscReal a[6], const PetscReal b[6])
+{
+  PetscReal s = 0;
+  for (PetscInt k = 0; k < 6; k++) s += PetscSqr(a[k] - b[k]);
+  return PetscSqrtReal(s);
+}
+
+/* G and eps of a whole tile (TileState). */
+static void TileShape(ClothSelfContact sc, PetscInt t, SelfContactTileState *s)
+{
+  const PetscInt t0 = sc->tile_tri_start[t], nt = sc->tile_tri_start[t + 1] - t0;
+  PetscReal      grad[6];
+
+  for (PetscInt k = 0; k < 6; k++) s->G[k] = 0;
+  for (PetscInt q = 0; q < nt; q++) {
+    TriangleGradient(sc, sc->tile_tri_of[t0 + q], grad);
+    for (PetscInt k = 0; k < 6; k++) s->G[k] += grad[k] / nt;
+  }
+  s->eps = 0;
+  for (PetscInt q = 0; q < nt; q++) {
+    TriangleGradient(sc, sc->tile_tri_of[t0 + q], grad);
+    s->eps = PetscMax(s->eps, Distance6(grad, s->G));
+  }
+}
+
+/* The orthonormal frame (rows) of the mean gradient G: along d/di, then across it in the tangent plane, then normal. */
+static void TileFrame(const PetscReal G[6], PetscReal F[9])
+{
+  PetscReal n0 = PetscSqrtReal(Dot3(G, G)), d, n1;
+
+  for (PetscInt k = 0; k < 3; k++) F[k] = G[k] / n0;
+  d = Dot3(F, G + 3);
+  for (PetscInt k = 0; k < 3; k++) F[3 + k] = G[3 + k] - d * F[k];
+  n1 = PetscSqrtReal(Dot3(F + 3, F + 3));
+  for (PetscInt k = 0; k < 3; k++) F[3 + k] /= n1;
+  Cross3(F, F + 3, F + 6);
+}
+
+/* C = A^T B (3 x 3, row-major) */
+static void MultTransposed3(const PetscReal A[9], const PetscReal B[9], PetscReal C[9])
+{
+  for (PetscInt r = 0; r < 3; r++)
+    for (PetscInt c = 0; c < 3; c++) C[3 * r + c] = A[r] * B[c] + A[3 + r] * B[3 + c] + A[6 + r] * B[6 + c];
+}
+
+/* y = A x, or A^T x (3 x 3, row-major) */
+static void Mult3(const PetscReal A[9], const PetscReal x[3], PetscBool transpose, PetscReal y[3])
+{
+  for (PetscInt r = 0; r < 3; r++) y[r] = transpose ? A[r] * x[0] + A[3 + r] * x[1] + A[6 + r] * x[2] : A[3 * r] * x[0] + A[3 * r + 1] * x[1] + A[3 * r + 2] * x[2];
+}
+
+/* The rigid motion (R, c, ce) of a whole tile since its snapshot and its deformation, its rectangle's particles
+   g[0..n); infinite without a snapshot. */
+static void TileMotion(ClothSelfContact sc, const SelfContactSnapshot snap, const PetscInt g[], PetscInt n, SelfContactTileState *s)
+{
+  PetscReal F[9];
+
+  s->def = PETSC_INFINITY;
+  if (!snap) return;
+  TileFrame(s->G, F);
+  MultTransposed3(F, snap->F0, s->R); /* R = F^T F0: takes the snapshot's frame to the current one */
+  s->def = 0;
+  for (PetscInt k = 0; k < n; k++) {
+    const PetscReal *x = &sc->x[3 * sc->contact_index[g[k]]], *d = &sc->dx[3 * sc->contact_index[g[k]]];
+    PetscReal        ry[3], rye[3], e2 = 0, ee2 = 0;
+
+    Mult3(s->R, &snap->rel[6 * k], PETSC_FALSE, ry);
+    Mult3(s->R, &snap->rel[6 * k + 3], PETSC_FALSE, rye);
+    for (PetscInt c = 0; c < 3; c++) e2 += PetscSqr(x[c] - s->c[c] - ry[c]), ee2 += PetscSqr(x[c] + d[c] - s->ce[c] - rye[c]);
+    s->def = PetscMax(s->def, PetscSqrtReal(PetscMax(e2, ee2)));
+  }
+}
+
+/* A new snapshot of a whole tile (a new epoch: its pairs of primitives are found again). */
+static PetscErrorCode TileSnapshot(ClothSelfContact sc, PetscInt t, const PetscInt g[], PetscInt n, SelfContactTileState *s)
+{
+  SelfContactSnapshot snap = sc->snapshots[t];
+
+  PetscFunctionBeginUser;
+  if (!snap) {
+    PetscCall(PetscNew(&sc->snapshots[t]));
+    snap = sc->snapshots[t];
+  }
+  snap->epoch++;
+  TileFrame(s->G, snap->F0);
+  snap->radius = 0;
+  for (PetscInt k = 0; k < n; k++) {
+    const PetscReal *x = &sc->x[3 * sc->contact_index[g[k]]], *d = &sc->dx[3 * sc->contact_index[g[k]]];
+    PetscReal       *y = &snap->rel[6 * k];
+    for (PetscInt c = 0; c < 3; c++) y[c] = x[c] - s->c[c], y[3 + c] = x[c] + d[c] - s->ce[c];
+    snap->radius = PetscMax(snap->radius, PetscSqrtReal(PetscMax(Dot3(y, y), Dot3(y + 3, y + 3))));
+  }
+  for (PetscInt k = 0; k < 9; k++) s->R[k] = (k % 4 == 0) ? 1.0 : 0.0;
+  s->def = 0;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The state and box (over the step, inflated by inflate) of present tile t; a whole tile whose deformation outgrew a
+   quarter of the skin takes a new snapshot. */
+static PetscErrorCode TileState(ClothSelfContact sc, PetscInt t, PetscReal inflate, PetscReal skin, SelfContactTileState *s, PetscReal box[6])
+{
+  const SelfContactTile *tile = &sc->tiles[t];
+  PetscInt               g[SELF_CONTACT_CLOSURE], n = TileClosure(sc, t, g), present = 0, owned = 0;
+
+  PetscFunctionBeginUser;
+  s->tile = t;
+  for (PetscInt c = 0; c < 3; c++) box[c] = PETSC_MAX_REAL, box[3 + c] = -PETSC_MAX_REAL, s->c[c] = s->ce[c] = s->mdx[c] = 0;
+  for (PetscInt k = 0; k < n; k++) {
+    const PetscInt i = sc->contact_index[g[k]];
+    if (i < 0) continue;
+    present++;
+    owned += i < sc->layout.nlocal;
+    for (PetscInt c = 0; c < 3; c++) {
+      box[c]     = PetscMin(box[c], PetscMin(sc->x[3 * i + c], sc->x[3 * i + c] + sc->dx[3 * i + c]));
+      box[3 + c] = PetscMax(box[3 + c], PetscMax(sc->x[3 * i + c], sc->x[3 * i + c] + sc->dx[3 * i + c]));
+      s->c[c] += sc->x[3 * i + c] / n, s->mdx[c] += sc->dx[3 * i + c] / n;
+    }
+  }
+  for (PetscInt c = 0; c < 3; c++) box[c] -= inflate, box[3 + c] += inflate, s->ce[c] = s->c[c] + s->mdx[c];
+  s->owned = owned > 0 ? PETSC_TRUE : PETSC_FALSE;
+  s->whole = (present == n && tile->ncells == (tile->i1 - tile->i0) * (tile->j1 - tile->j0)) ? PETSC_TRUE : PETSC_FALSE;
+  s->def   = PETSC_INFINITY;
+  if (!s->whole) PetscFunctionReturn(PETSC_SUCCESS);
+  s->dev = 0;
+  for (PetscInt k = 0; k < n; k++) {
+    const PetscReal *d    = &sc->dx[3 * sc->contact_index[g[k]]];
+    const PetscReal  e[3] = {d[0] - s->mdx[0], d[1] - s->mdx[1], d[2] - s->mdx[2]};
+    s->dev                = PetscMax(s->dev, PetscSqrtReal(Dot3(e, e)));
+  }
+  TileShape(sc, t, s);
+  TileMotion(sc, sc->snapshots[t], g, n, s);
+  if (s->def > 0.25 * skin) PetscCall(TileSnapshot(sc, t, g, n, s));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The smallest singular value of the 3 x 2 matrix G (column-major). */
+static PetscReal SmallestSingularValue(const PetscReal G[6])
+{
+  const PetscReal a = Dot3(G, G), b = Dot3(G, G + 3), d = Dot3(G + 3, G + 3), half = 0.5 * (a + d), root = PetscSqrtReal(PetscMax(0.0, 0.25 * PetscSqr(a - d) + b * b));
+
+  return PetscSqrtReal(PetscMax(0.0, half - root));
+}
+
+/* Are tiles P and Q of one piece at most one tile apart? */
+static PetscBool TileNeighbours(const SelfContactTile *P, const SelfContactTile *Q)
+{
+  return (P->piece == Q->piece && PetscAbsInt(P->ti - Q->ti) <= 1 && PetscAbsInt(P->tj - Q->tj) <= 1) ? PETSC_TRUE : PETSC_FALSE;
+}
+
+/* Can no pair of primitives of the neighbouring tiles P and Q that the exclusion ring allows come within rho during
+   the step? Their grid rectangle U (P alone, P and Q side by side, or the 2 x 2 block of diagonal neighbours) is
+   convex, so for points x, y at grid indices a, b the map from indices to space with |grad - G| <= eps on every
+   triangle of U gives |x - y| >= (sigma_min(G) - eps) |a - b|; the exclusion puts |a - b| >= R (the ring) between any
+   two allowed primitives (their index boxes are a cell wide and their particles R + 1 apart); over the step their
+   separation changes by at most twice the largest departure of a displacement from U's mean, dev. A flat or gently
+   curved layer moving as one thus has no pair of primitives to test. False when U is not whole here. */
+static PetscBool TilesApart(ClothSelfContact sc, const SelfContactTileState *state, const SelfContactTile *P, const SelfContactTile *Q, PetscReal rho)
+{
+  const PetscInt             piece = P->piece, ring = sc->ring[piece], *pt = &sc->piece_tiles[SELF_CONTACT_PIECE_TILES * piece];
+  const PetscInt             ti0 = PetscMin(P->ti, Q->ti), ti1 = PetscMax(P->ti, Q->ti), tj0 = PetscMin(P->tj, Q->tj), tj1 = PetscMax(P->tj, Q->tj);
+  const SelfContactTile     *low = &sc->tiles[pt[0] + tj0 * pt[1] + ti0], *high = &sc->tiles[pt[0] + tj1 * pt[1] + ti1];
+  const SelfContactTileState *u[4];
+  PetscInt                    nu = 0;
+  PetscReal                   G[6] = {0, 0, 0, 0, 0, 0}, mdx[3] = {0, 0, 0}, eps = 0, dev = 0;
+
+  if (!sc->same_piece || PetscMax(high->i1 - low->i0, high->j1 - low->j0) <= ring) return PETSC_TRUE; /* every pair excluded */
+  for (PetscInt tj = tj0; tj <= tj1; tj++)
+    for (PetscInt ti = ti0; ti <= ti1; ti++) {
+      const PetscInt k = sc->tile_present[pt[0] + tj * pt[1] + ti];
+      if (k < 0 || !state[k].whole) return PETSC_FALSE;
+      u[nu++] = &state[k];
+    }
+  for (PetscInt k = 0; k < nu; k++)
+    for (PetscInt c = 0; c < 6; c++) G[c] += u[k]->G[c] / nu;
+  for (PetscInt k = 0; k < nu; k++)
+    for (PetscInt c = 0; c < 3; c++) mdx[c] += u[k]->mdx[c] / nu;
+  for (PetscInt k = 0; k < nu; k++) {
+    const PetscReal e[3] = {u[k]->mdx[0] - mdx[0], u[k]->mdx[1] - mdx[1], u[k]->mdx[2] - mdx[2]};
+    eps                  = PetscMax(eps, u[k]->eps + Distance6(u[k]->G, G));
+    dev                  = PetscMax(dev, u[k]->dev + PetscSqrtReal(Dot3(e, e)));
+  }
+  return (SmallestSingularValue(G) - eps) * ring >= rho + 2 * dev ? PETSC_TRUE : PETSC_FALSE;
+}
+
+/* ------------------------------------------------------------------------------------------------ */
+/* Pairs of primitives of a pair of tiles                                                           */
+
+/* The box of the natural particles v[0..nv) over the step (from the positions at its start to those after its
+   displacements less the common one u; NULL: none), inflated by inflate. Whether two primitives come within a
+   distance during the step depends only on their relative motion: boxes swept with the displacements less a common one
+   meet whenever the primitives come close, and a layer that slides as a whole sweeps nothing. */
+void SelfContactSweptBox(ClothSelfContact sc, const PetscInt v[], PetscInt nv, PetscReal inflate, const PetscReal u[3], PetscReal box[6])
+{
+  const PetscReal none[3] = {0, 0, 0};
+
+  if (!u) u = none;
+  for (PetscInt c = 0; c < 3; c++) box[c] = PETSC_MAX_REAL, box[3 + c] = -PETSC_MAX_REAL;
+  for (PetscInt k = 0; k < nv; k++) {
+    const PetscInt   i = sc->contact_index[v[k]];
+    const PetscReal *x = &sc->x[3 * i], *d = &sc->dx[3 * i];
+    for (PetscInt c = 0; c < 3; c++) {
+      box[c]     = PetscMin(box[c], PetscMin(x[c], x[c] + d[c] - u[c]));
+      box[3 + c] = PetscMax(box[3 + c], PetscMax(x[c], x[c] + d[c] - u[c]));
+    }
+  }
+  for (PetscInt c = 0; c < 3; c++) box[c] -= inflate, box[3 + c] += inflate;
+}
+
+static inline PetscBool BoxesOverlap(const PetscReal a[6], const PetscReal b[6])
+{
+  return (a[3] < b[0] || b[3] < a[0] || a[4] < b[1] || b[4] < a[1] || a[5] < b[2] || b[5] < a[2]) ? PETSC_FALSE : PETSC_TRUE;
+}
+
+static PetscErrorCode AppendPrimitivePair(ClothSelfContact sc, ClothContactKind kind, PetscInt a, PetscInt b)
+{
+  PetscFunctionBeginUser;
+  if (sc->npairs == sc->maxpairs) {
+    SelfContactPrimitivePair *more;
+    sc->maxpairs = 2 * sc->maxpairs + 256;
+    PetscCall(PetscMalloc1(sc->maxpairs, &more));
+    PetscCall(PetscArraycpy(more, sc->pairs, sc->npairs));
+    PetscCall(PetscFree(sc->pairs));
+    sc->pairs = more;
+  }
+  sc->pairs[sc->npairs].kind = kind, sc->pairs[sc->npairs].a = a, sc->pairs[sc->npairs].b = b;
+  sc->npairs++;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+#define SELF_CONTACT_TILE_CELLS (SELF_CONTACT_TILE * SELF_CONTACT_TILE)
+
+/* A tile's primitives of one kind present here, grouped by the tile's cells (a primitive's cell: that at its lowest
+   (i, j)), with their boxes over the step, inflated, and each cell's box (the union of its primitives'; inverted when it
+   has none), so that a pair of tiles compares cells first and primitives only within cells that come close. */
+typedef struct {
+  PetscInt   n, nv, start[SELF_CONTACT_TILE_CELLS + 1];
+  PetscInt  *ids, *ij; /* ij: the grid position (i, j) of each of a primitive's nv particles, for the exclusion ring */
+  PetscReal *boxes;
+  PetscReal  cell[6 * SELF_CONTACT_TILE_CELLS];
+} TilePrimitives;
+
+/* Are two particles of one piece at grid positions a[0..na) and b[0..nb) ((i, j) each) within ring rings of each other
+   (SelfContactRingExcluded, read from positions gathered beside the primitives)? */
+static inline PetscBool WithinRing(const PetscInt a[], PetscInt na, const PetscInt b[], PetscInt nb, PetscInt ring)
+{
+  for (PetscInt k = 0; k < na; k++)
+    for (PetscInt l = 0; l < nb; l++)
+      if (PetscAbsInt(a[2 * k] - b[2 * l]) <= ring && PetscAbsInt(a[2 * k + 1] - b[2 * l + 1]) <= ring) return PETSC_TRUE;
+  return PETSC_FALSE;
+}
+
+/* The cell, within tile t, of the primitive with particles v[0..nv). */
+static PetscInt CellInTile(ClothSelfContact sc, const SelfContactTile *tile, const PetscInt v[], PetscInt nv)
+{
+  PetscInt i = sc->grid_i[v[0]], j = sc->grid_j[v[0]];
+
+  for (PetscInt k = 1; k < nv; k++) i = PetscMin(i, sc->grid_i[v[k]]), j = PetscMin(j, sc->grid_j[v[k]]);
+  return (PetscMin(i, tile->i1 - 1) - tile->i0) + (PetscMin(j, tile->j1 - 1) - tile->j0) * (tile->i1 - tile->i0);
+}
+
+/* The cell in tile t of the primitive with particles v[0..nv), or -1 when one of them is not present here. */
+static PetscInt PresentPrimitiveCell(ClothSelfContact sc, const SelfContactTile *tile, const PetscInt v[], PetscInt nv)
+{
+  for (PetscInt k = 0; k < nv; k++)
+    if (sc->contact_index[v[k]] < 0) return -1;
+  return CellInTile(sc, tile, v, nv);
+}
+
+/* The present primitives (nv particles each, prim[], listed for tile t by start/of) of tile t into tp, their ids and
+   boxes (swept with the displacements less u, inflated by inflate) in the room at ids, ij and boxes. */
+static void GatherTilePrimitives(ClothSelfContact sc, PetscInt t, PetscInt nv, const PetscInt prim[], const PetscInt start[], const PetscInt of[], PetscReal inflate, const PetscReal u[3], PetscInt ids[], PetscInt ij[], PetscReal boxes[], TilePrimitives *tp)
+{
+  const SelfContactTile *tile  = &sc->tiles[t];
+  const PetscInt         ncell = (tile->i1 - tile->i0) * (tile->j1 - tile->j0);
+  PetscInt               fill[SELF_CONTACT_TILE_CELLS];
+
+  tp->ids = ids, tp->ij = ij, tp->boxes = boxes, tp->nv = nv;
+  for (PetscInt c = 0; c <= ncell; c++) tp->start[c] = 0;
+  for (PetscInt q = start[t]; q < start[t + 1]; q++) {
+    const PetscInt c = PresentPrimitiveCell(sc, tile, &prim[nv * of[q]], nv);
+    if (c >= 0) tp->start[c + 1]++;
+  }
+  for (PetscInt c = 0; c < ncell; c++) tp->start[c + 1] += tp->start[c], fill[c] = tp->start[c];
+  tp->n = tp->start[ncell];
+  for (PetscInt q = start[t]; q < start[t + 1]; q++) {
+    const PetscInt c = PresentPrimitiveCell(sc, tile, &prim[nv * of[q]], nv);
+    if (c < 0) continue;
+    ids[fill[c]] = of[q];
+    for (PetscInt k = 0; k < nv; k++) ij[2 * (nv * fill[c] + k)] = sc->grid_i[prim[nv * of[q] + k]], ij[2 * (nv * fill[c] + k) + 1] = sc->grid_j[prim[nv * of[q] + k]];
+    SelfContactSweptBox(sc, &prim[nv * of[q]], nv, inflate, u, &boxes[6 * fill[c]]);
+    fill[c]++;
+  }
+  for (PetscInt c = 0; c < ncell; c++) {
+    PetscReal *cb = &tp->cell[6 * c];
+    for (PetscInt k = 0; k < 3; k++) cb[k] = PETSC_MAX_REAL, cb[3 + k] = -PETSC_MAX_REAL;
+    for (PetscInt q = tp->start[c]; q < tp->start[c + 1]; q++)
+      for (PetscInt k = 0; k < 3; k++) cb[k] = PetscMin(cb[k], boxes[6 * q + k]), cb[3 + k] = PetscMax(cb[3 + k], boxes[6 * q + 3 + k]);
+  }
+}
+
+/* The exclusion ring between tiles P and Q: their piece's when both are of it, -1 (none) otherwise (every pair of one
+   piece is excluded with same_piece off, which VisitTilePairs has handled). */
+static PetscInt TilesRing(ClothSelfContact sc, PetscInt P, PetscInt Q)
+{
+  return sc->tiles[P].piece == sc->tiles[Q].piece ? sc->ring[sc->tiles[P].piece] : -1;
+}
+
+/* Particle-triangle pairs of the owned particles of tile P against the triangles tq of tile Q (boxes swept less u). */
+static PetscErrorCode PairPointsWithTriangles(ClothSelfContact sc, PetscInt P, PetscInt Q, const PetscReal u[3], const TilePrimitives *tq)
+{
+  const SelfContactTile *tile  = &sc->tiles[Q];
+  const PetscInt         ncell = (tile->i1 - tile->i0) * (tile->j1 - tile->j0), ring = TilesRing(sc, P, Q);
+
+  PetscFunctionBeginUser;
+  for (PetscInt q = sc->tile_particle_start[P]; q < sc->tile_particle_start[P + 1]; q++) {
+    const PetscInt g = sc->tile_particle_of[q], i = sc->contact_index[g], ij[2] = {sc->grid_i[g], sc->grid_j[g]};
+    PetscReal      box[6];
+
+    if (i < 0 || i >= sc->layout.nlocal) continue;
+    SelfContactSweptBox(sc, &g, 1, 0.0, u, box);
+    for (PetscInt c = 0; c < ncell; c++) {
+      if (!BoxesOverlap(box, &tq->cell[6 * c])) continue;
+      for (PetscInt k = tq->start[c]; k < tq->start[c + 1]; k++)
+        if (!WithinRing(ij, 1, &tq->ij[6 * k], 3, ring) && BoxesOverlap(box, &tq->boxes[6 * k])) PetscCall(AppendPrimitivePair(sc, CLOTH_CONTACT_POINT_TRIANGLE, g, tq->ids[k]));
+    }
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Edge-edge pairs of the edges of cells a (of ep) and b (of eq) that this rank handles (the same cell of the same tile:
+   each pair once); ring: the exclusion ring between their tiles. */
+static PetscErrorCode PairCellEdges(ClothSelfContact sc, const TilePrimitives *ep, PetscInt a, const TilePrimitives *eq, PetscInt b, PetscBool same, PetscInt ring)
+{
+  PetscFunctionBeginUser;
+  for (PetscInt k1 = ep->start[a]; k1 < ep->start[a + 1]; k1++) {
+    const PetscInt e1 = ep->ids[k1];
+    for (PetscInt k2 = same ? k1 + 1 : eq->start[b]; k2 < eq->start[b + 1]; k2++) {
+      const PetscInt e2 = eq->ids[k2], first = PetscMin(e1, e2), second = PetscMax(e1, e2);
+      PetscInt       p[4];
+
+      if (WithinRing(&ep->ij[4 * k1], 2, &eq->ij[4 * k2], 2, ring) || !BoxesOverlap(&ep->boxes[6 * k1], &eq->boxes[6 * k2])) continue;
+      p[0] = sc->edge[2 * first], p[1] = sc->edge[2 * first + 1], p[2] = sc->edge[2 * second], p[3] = sc->edge[2 * second + 1];
+      if (SelfContactHandlesEdgePair(sc, e1, e2, p)) PetscCall(AppendPrimitivePair(sc, CLOTH_CONTACT_EDGE_EDGE, first, second));
+    }
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Edge-edge pairs of tiles P and Q (edges ep, eq; the same tile: each pair once), cell pairs whose boxes overlap. */
+static PetscErrorCode PairEdges(ClothSelfContact sc, PetscInt P, PetscInt Q, const TilePrimitives *ep, const TilePrimitives *eq)
+{
+  const PetscInt np = (sc->tiles[P].i1 - sc->tiles[P].i0) * (sc->tiles[P].j1 - sc->tiles[P].j0), nq = (sc->tiles[Q].i1 - sc->tiles[Q].i0) * (sc->tiles[Q].j1 - sc->tiles[Q].j0), ring = TilesRing(sc, P, Q);
+
+  PetscFunctionBeginUser;
+  for (PetscInt a = 0; a < np; a++)
+    for (PetscInt b = P == Q ? a : 0; b < nq; b++)
+      if (BoxesOverlap(&ep->cell[6 * a], &eq->cell[6 * b])) PetscCall(PairCellEdges(sc, ep, a, eq, b, (P == Q && a == b) ? PETSC_TRUE : PETSC_FALSE, ring));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Appends to sc->pairs every pair of primitives of tiles P and Q (each pair once) that this rank handles, that the
+   exclusion ring allows and whose boxes over the step relative to u (the two tiles' mean displacement), inflated so
+   that together they reach reach, overlap. */
+static PetscErrorCode PairTiles(ClothSelfContact sc, PetscInt P, PetscInt Q, const PetscReal u[3], PetscReal reach)
+{
+  const PetscInt room = sc->scratch_room;
+  TilePrimitives a, b;
+
+  PetscFunctionBeginUser;
+  GatherTilePrimitives(sc, Q, 3, sc->tri, sc->tile_tri_start, sc->tile_tri_of, reach, u, sc->scratch_ids, sc->scratch_ij, sc->scratch_boxes, &b);
+  PetscCall(PairPointsWithTriangles(sc, P, Q, u, &b));
+  if (Q != P) {
+    GatherTilePrimitives(sc, P, 3, sc->tri, sc->tile_tri_start, sc->tile_tri_of, reach, u, sc->scratch_ids, sc->scratch_ij, sc->scratch_boxes, &a);
+    PetscCall(PairPointsWithTriangles(sc, Q, P, u, &a));
+  }
+  GatherTilePrimitives(sc, P, 2, sc->edge, sc->tile_edge_start, sc->tile_edge_of, 0.5 * reach, u, sc->scratch_ids, sc->scratch_ij, sc->scratch_boxes, &a);
+  if (Q != P) GatherTilePrimitives(sc, Q, 2, sc->edge, sc->tile_edge_start, sc->tile_edge_of, 0.5 * reach, u, sc->scratch_ids + room, sc->scratch_ij + 6 * room, sc->scratch_boxes + 6 * room, &b);
+  PetscCall(PairEdges(sc, P, Q, &a, Q != P ? &b : &a));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* ------------------------------------------------------------------------------------------------ */
+/* Pairs of tiles, kept over steps                                                                  */
+
+/* A pair of tiles (the lower-numbered first), its pairs of primitives pairs[start, start + n), and what they hold for:
+   the tiles' epochs, the sum of their deformations, and where the second tile lay in the first one's frame when they
+   were found: M = R_P^T R_Q, and the offsets R_P^T (c_Q - c_P) and R_P^T (ce_Q - ce_P). */
+struct _n_SelfContactTilePair {
+  PetscInt64 key; /* P ntiles + Q */
+  PetscInt   epoch[2];
+  PetscReal  M[9], offset[6], def;
+  PetscInt   start, n;
+};
+
+static int CompareTilePairs(const void *a, const void *b)
+{
+  const PetscInt64 x = ((const struct _n_SelfContactTilePair *)a)->key, y = ((const struct _n_SelfContactTilePair *)b)->key;
+  return x < y ? -1 : (x > y ? 1 : 0);
+}
+
+/* The kept pair of tiles with this key from the last step (NULL: none). */
+static const struct _n_SelfContactTilePair *FindKeptPair(ClothSelfContact sc, PetscInt64 key)
+{
+  struct _n_SelfContactTilePair probe;
+
+  probe.key = key;
+  return (const struct _n_SelfContactTilePair *)bsearch(&probe, sc->kept, (size_t)sc->nkept, sizeof(probe), CompareTilePairs);
+}
+
+/* Where tile b lies in tile a's frame: M = R_a^T R_b and the offsets of its centroids (both whole). */
+static void RelativePlacement(const SelfContactTileState *a, const SelfContactTileState *b, PetscReal M[9], PetscReal offset[6])
+{
+  PetscReal dc[3] = {b->c[0] - a->c[0], b->c[1] - a->c[1], b->c[2] - a->c[2]}, dce[3] = {b->ce[0] - a->ce[0], b->ce[1] - a->ce[1], b->ce[2] - a->ce[2]};
+
+  MultTransposed3(a->R, b->R, M);
+  Mult3(a->R, dc, PETSC_TRUE, offset);
+  Mult3(a->R, dce, PETSC_TRUE, offset + 3);
+}
+
+/* Do the pairs of primitives kept for tiles a and b (states, a the first of the pair) still hold every pair that can
+   come within rho? Those left out were farther apart than rho + 2 skin when they were found (their boxes over the step
+   were). Distances do not depend on the frame: in a's frame, since then a's positions moved by at most its
+   deformations then and now, and b's by those of b plus the change of b's placement in a's frame, at most
+   |M - M_then| r_b (r_b: b's radius) plus the change of the offsets. */
+static PetscBool KeptPairHolds(ClothSelfContact sc, const struct _n_SelfContactTilePair *kept, const SelfContactTileState *a, const SelfContactTileState *b, PetscReal skin)
+{
+  PetscReal M[9], offset[6], dM = 0, doff[2] = {0, 0};
+
+  if (!kept || !a->whole || !b->whole || kept->epoch[0] != sc->snapshots[a->tile]->epoch || kept->epoch[1] != sc->snapshots[b->tile]->epoch) return PETSC_FALSE;
+  RelativePlacement(a, b, M, offset);
+  for (PetscInt k = 0; k < 9; k++) dM += PetscSqr(M[k] - kept->M[k]);
+  for (PetscInt k = 0; k < 3; k++) doff[0] += PetscSqr(offset[k] - kept->offset[k]), doff[1] += PetscSqr(offset[3 + k] - kept->offset[3 + k]);
+  return PetscSqrtReal(dM) * sc->snapshots[b->tile]->radius + PetscSqrtReal(PetscMax(doff[0], doff[1])) + a->def + b->def + kept->def <= 2 * skin ? PETSC_TRUE : PETSC_FALSE;
+}
+
+/* The pairs of primitives of present tiles s1 and s2 for this step: those kept from the last step while they hold
+   (KeptPairHolds), else found again (PairTiles with boxes reaching rho + 2 skin); recorded in the new list of kept
+   pairs (sc->fresh, pairs in sc->pairs). */
+static PetscErrorCode PairsOfTiles(ClothSelfContact sc, const SelfContactTileState *s1, const SelfContactTileState *s2, PetscReal rho, PetscReal skin)
+{
+  const SelfContactTileState          *a = s1->tile <= s2->tile ? s1 : s2, *b = s1->tile <= s2->tile ? s2 : s1;
+  const PetscInt64                     key  = (PetscInt64)a->tile * sc->ntiles + b->tile;
+  const struct _n_SelfContactTilePair *kept = FindKeptPair(sc, key);
+  struct _n_SelfContactTilePair       *pair;
+
+  PetscFunctionBeginUser;
+  if (sc->nfresh == sc->maxfresh) {
+    struct _n_SelfContactTilePair *more;
+    sc->maxfresh = 2 * sc->maxfresh + 256;
+    PetscCall(PetscMalloc1(sc->maxfresh, &more));
+    PetscCall(PetscArraycpy(more, sc->fresh, sc->nfresh));
+    PetscCall(PetscFree(sc->fresh));
+    sc->fresh = more;
+  }
+  pair        = &sc->fresh[sc->nfresh++];
+  pair->key   = key;
+  pair->start = sc->npairs;
+  if (KeptPairHolds(sc, kept, a, b, skin)) {
+    for (PetscInt k = 0; k < kept->n; k++) PetscCall(AppendPrimitivePair(sc, sc->kept_pairs[kept->start + k].kind, sc->kept_pairs[kept->start + k].a, sc->kept_pairs[kept->start + k].b));
+    *pair       = *kept;
+    pair->start = sc->npairs - kept->n;
+    sc->tile_pairs_kept++;
+  } else {
+    const PetscReal u[3] = {0.5 * (a->mdx[0] + b->mdx[0]), 0.5 * (a->mdx[1] + b->mdx[1]), 0.5 * (a->mdx[2] + b->mdx[2])};
+
+    PetscCall(PairTiles(sc, a->tile, b->tile, u, rho + 2 * skin));
+    pair->epoch[0] = a->whole ? sc->snapshots[a->tile]->epoch : -1, pair->epoch[1] = b->whole ? sc->snapshots[b->tile]->epoch : -1;
+    pair->def      = a->def + b->def;
+    if (a->whole && b->whole) RelativePlacement(a, b, pair->M, pair->offset);
+  }
+  pair->n = sc->npairs - pair->start;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The present tiles (sc->tile_present: tile -> its index in *state, or -1), their states and boxes. */
+static PetscErrorCode PresentTiles(ClothSelfContact sc, PetscReal rho, PetscReal skin, PetscInt *n, SelfContactTileState **state, PetscReal **boxes)
+{
+  const PetscInt nparticles = sc->layout.nlocal + sc->nremote;
+
+  PetscFunctionBeginUser;
+  for (PetscInt k = 0; k < sc->npresent_tiles; k++) sc->tile_present[sc->present_tiles[k]] = -1;
+  sc->npresent_tiles = 0;
+  for (PetscInt k = 0; k < nparticles; k++) {
+    const PetscInt t = SelfContactParticleTile(sc, sc->natural_of[k]);
+    if (sc->tile_present[t] >= 0) continue;
+    if (sc->npresent_tiles == sc->maxpresent_tiles) {
+      PetscInt *more;
+      sc->maxpresent_tiles = 2 * sc->maxpresent_tiles + 64;
+      PetscCall(PetscMalloc1(sc->maxpresent_tiles, &more));
+      PetscCall(PetscArraycpy(more, sc->present_tiles, sc->npresent_tiles));
+      PetscCall(PetscFree(sc->present_tiles));
+      sc->present_tiles = more;
+    }
+    sc->tile_present[t]                     = sc->npresent_tiles;
+    sc->present_tiles[sc->npresent_tiles++] = t;
+  }
+  *n = sc->npresent_tiles;
+  PetscCall(PetscMalloc2(*n + 1, state, 6 * *n + 6, boxes));
+  for (PetscInt k = 0; k < *n; k++) PetscCall(TileState(sc, sc->present_tiles[k], 0.5 * rho + skin, skin, &(*state)[k], &(*boxes)[6 * k]));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The pairs of present tiles whose boxes overlap, found on a cell grid of the boxes, each given to PairsOfTiles unless
+   neither holds anything of this rank's or TilesApart proves it holds nothing. */
+static PetscErrorCode VisitTilePairs(ClothSelfContact sc, const SelfContactTileState *state, const PetscReal *boxes, PetscInt n, const PetscReal region[6], PetscReal rho, PetscReal skin)
+{
+  PetscInt        ncell[3], lo[3], hi[3];
+  const PetscInt *start, *item;
+  PetscReal       cell = 0;
+
+  PetscFunctionBeginUser;
+  for (PetscInt k = 0; k < n; k++)
+    for (PetscInt c = 0; c < 3; c++) cell = PetscMax(cell, boxes[6 * k + 3 + c] - boxes[6 * k + c]);
+  if (n == 0 || !(cell > 0)) PetscFunctionReturn(PETSC_SUCCESS);
+  /* cells as large as the largest box: each box touches at most two along each axis */
+  PetscCall(CellGridBuild(sc->tile_grid, region, region + 3, cell, 8 * n + 64, n, boxes, boxes + 3, 6));
+  CellGridGetCells(sc->tile_grid, ncell, &start, &item);
+  for (PetscInt a = 0; a < n; a++) {
+    const SelfContactTile *P = &sc->tiles[state[a].tile];
+    CellGridGetCellRange(sc->tile_grid, &boxes[6 * a], &boxes[6 * a + 3], lo, hi);
+    sc->visit++;
+    for (PetscInt i = lo[0]; i <= hi[0]; i++)
+      for (PetscInt j = lo[1]; j <= hi[1]; j++)
+        for (PetscInt l = lo[2]; l <= hi[2]; l++) {
+          const PetscInt c = CellGridCellIndex(ncell, i, j, l);
+          for (PetscInt q = start[c]; q < start[c + 1]; q++) {
+            const PetscInt         b = item[q];
+            const SelfContactTile *Q = &sc->tiles[state[b].tile];
+
+            if (b < a || sc->tile_mark[b] == sc->visit) continue;
+            sc->tile_mark[b] = sc->visit;
+            if ((!state[a].owned && !state[b].owned) || !BoxesOverlap(&boxes[6 * a], &boxes[6 * b])) continue;
+            if (!sc->same_piece && P->piece == Q->piece) continue; /* one piece never collides with itself */
+            sc->tile_pairs++;
+            if (TileNeighbours(P, Q) && TilesApart(sc, state, P, Q, rho)) {
+              sc->tile_pairs_apart++;
+              continue;
+            }
+            PetscCall(PairsOfTiles(sc, &state[a], &state[b], rho, skin));
+          }
+        }
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode SelfContactPairPrimitives(ClothSelfContact sc, const PetscReal region[6], PetscReal rho, PetscReal skin)
+{
+  SelfContactTileState          *state;
+  PetscReal                     *boxes;
+  PetscInt                       n = 0;
+  struct _n_SelfContactTilePair *swap_pairs;
+  SelfContactPrimitivePair      *swap_prims;
+  PetscInt                       swap_max;
+
+  PetscFunctionBeginUser;
+  PetscCall(PresentTiles(sc, rho, skin, &n, &state, &boxes));
+  /* this step's pairs go into fresh lists; the last step's (kept) are read from */
+  sc->nfresh = 0;
+  sc->npairs = 0;
+  PetscCall(VisitTilePairs(sc, state, boxes, n, region, rho, skin));
+  PetscCall(PetscFree2(state, boxes));
+  qsort(sc->fresh, (size_t)sc->nfresh, sizeof(struct _n_SelfContactTilePair), CompareTilePairs);
+  /* the fresh lists are kept for the next step; the old ones become the next step's buffers */
+  swap_pairs = sc->kept, sc->kept = sc->fresh, sc->fresh = swap_pairs;
+  swap_max = sc->maxkept, sc->maxkept = sc->maxfresh, sc->maxfresh = swap_max;
+  sc->nkept = sc->nfresh, sc->nfresh = 0;
+  swap_prims = sc->kept_pairs, sc->kept_pairs = sc->pairs, sc->pairs = swap_prims;
+  swap_max = sc->maxkept_pairs, sc->maxkept_pairs = sc->maxpairs, sc->maxpairs = swap_max;
+  sc->nkept_pairs = sc->npairs, sc->npairs = 0;
+  sc->primitive_pairs_total += sc->nkept_pairs;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode SelfContactForgetKeptPairs(ClothSelfContact sc)
+{
+  PetscFunctionBeginUser;
+  sc->nkept = 0;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode SelfContactDestroyTiles(ClothSelfContact sc)
+{
+  PetscFunctionBeginUser;
+  for (PetscInt t = 0; t < sc->ntiles && sc->snapshots; t++) PetscCall(PetscFree(sc->snapshots[t]));
+  PetscCall(PetscFree(sc->piece_tiles));
+  PetscCall(PetscFree(sc->tiles));
+  PetscCall(PetscFree(sc->tile_tri_start));
+  PetscCall(PetscFree(sc->tile_tri_of));
+  PetscCall(PetscFree(sc->tile_edge_start));
+  PetscCall(PetscFree(sc->tile_edge_of));
+  PetscCall(PetscFree(sc->tile_particle_start));
+  PetscCall(PetscFree(sc->tile_particle_of));
+  PetscCall(PetscFree3(sc->tile_present, sc->tile_mark, sc->snapshots));
+  PetscCall(PetscFree(sc->present_tiles));
+  PetscCall(PetscFree(sc->kept));
+  PetscCall(PetscFree(sc->fresh));
+  PetscCall(PetscFree(sc->kept_pairs));
+  PetscCall(PetscFree(sc->pairs));
+  PetscCall(PetscFree3(sc->scratch_ids, sc->scratch_ij, sc->scratch_boxes));
+  PetscCall(CellGridDestroy(&sc->tile_grid));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
