@@ -116,6 +116,12 @@ typedef struct {
   /* Adds, per owned particle (row), the 3x3 blocks coupled beyond the interactions' pattern: diagonal / off-diagonal
      part of the matrix, and of them those above the diagonal. May be NULL. Not collective. */
   PetscErrorCode (*count_row_blocks)(void *ctx, PetscInt dnnz[], PetscInt onnz[], PetscInt dnnzu[], PetscInt onnzu[]);
+  /* y += C x: the couplings of the implicit system between particles that no interaction of the model joins (contacts
+     that come and go as layers slide), which the assembled matrix leaves out: it gets their diagonal blocks (in add or
+     add_to_implicit_step), and this applies the rest at every product of the implicit operator
+     (ClothCreateImplicitOperator), so that the matrix's pattern never changes. Of the last assembly. May be NULL.
+     Collective. */
+  PetscErrorCode (*mult_coupling)(void *ctx, Vec x, Vec y);
   /* Forces of the implicit step alone that depend on the whole force at the step's start (body friction, whose normal
      force is the push into the body: collision.c, -collision_friction implicit). Called by ClothAssembleImplicitSystem
      after every other force and diagonal block, with the step size h, the velocity at the step's start, the force F
@@ -198,6 +204,10 @@ PetscErrorCode ClothGetSelfContact(Cloth cloth, ClothSelfContact *sc);
 /* A symmetric block (bs 3) matrix with exactly the nonzero pattern of the interactions, preallocated, of the given
    type (MATBAIJ, or MATSBAIJ: only the upper triangle stored) unless -implicit_mat_type says otherwise. */
 PetscErrorCode ClothCreateMatrix(Cloth cloth, MatType type, Mat *A);
+/* The operator of the implicit system assembled into A (ClothAssembleImplicitSystem): A itself (a new reference) when
+   no contribution couples particles beyond the interactions (mult_coupling), else a shell that applies A and those
+   couplings. Krylov solvers take it as their operator and A as the matrix to precondition with. Collective. */
+PetscErrorCode ClothCreateImplicitOperator(Cloth cloth, Mat A, Mat *op);
 /* Frees the interaction graph of the whole fabric (ClothLayout's xadj, adjncy become NULL): once the implicit matrix
    exists and no cloth-cloth contact can grow its pattern, nothing reads it again, and every rank holds it whole (about
    50 bytes per particle of the sheet; issue 25). ClothCreateMatrix fails after it. Not collective. */

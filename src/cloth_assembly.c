@@ -612,3 +612,61 @@ PetscErrorCode ClothGetSelfContact(Cloth cloth, ClothSelfContact *sc)
   *sc = cloth->self_contact;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
+
+/* The shell of ClothCreateImplicitOperator. */
+typedef struct {
+  Cloth cloth;
+  Mat   A;
+} ClothImplicitOperator;
+
+static PetscErrorCode ImplicitOperatorMult(Mat op, Vec x, Vec y)
+{
+  ClothImplicitOperator *ctx;
+
+  PetscFunctionBeginUser;
+  PetscCall(MatShellGetContext(op, &ctx));
+  PetscCall(MatMult(ctx->A, x, y));
+  for (PetscInt c = 0; c < ctx->cloth->ncontributions; c++)
+    if (ctx->cloth->contributions[c].mult_coupling) PetscCall(ctx->cloth->contributions[c].mult_coupling(ctx->cloth->contributions[c].ctx, x, y));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode ImplicitOperatorDestroy(Mat op)
+{
+  ClothImplicitOperator *ctx;
+
+  PetscFunctionBeginUser;
+  PetscCall(MatShellGetContext(op, &ctx));
+  PetscCall(MatDestroy(&ctx->A));
+  PetscCall(PetscFree(ctx));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothCreateImplicitOperator(Cloth cloth, Mat A, Mat *op)
+{
+  PetscBool              coupled = PETSC_FALSE;
+  ClothImplicitOperator *ctx;
+  PetscInt               m, n, M, N;
+
+  PetscFunctionBeginUser;
+  for (PetscInt c = 0; c < cloth->ncontributions; c++)
+    if (cloth->contributions[c].mult_coupling) coupled = PETSC_TRUE;
+  if (!coupled) {
+    PetscCall(PetscObjectReference((PetscObject)A));
+    *op = A;
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
+  PetscCall(PetscNew(&ctx));
+  ctx->cloth = cloth;
+  ctx->A     = A;
+  PetscCall(PetscObjectReference((PetscObject)A));
+  PetscCall(MatGetLocalSize(A, &m, &n));
+  PetscCall(MatGetSize(A, &M, &N));
+  PetscCall(MatCreateShell(cloth->comm, m, n, M, N, ctx, op));
+  PetscCall(MatShellSetOperation(*op, MATOP_MULT, (void (*)(void))ImplicitOperatorMult));
+  PetscCall(MatShellSetOperation(*op, MATOP_DESTROY, (void (*)(void))ImplicitOperatorDestroy));
+  PetscCall(MatSetBlockSize(*op, 3));
+  PetscCall(MatSetOption(*op, MAT_SYMMETRIC, PETSC_TRUE));
+  PetscCall(MatSetOption(*op, MAT_SPD, PETSC_TRUE));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}

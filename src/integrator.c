@@ -28,7 +28,7 @@ struct _n_ClothIntegrator {
   PetscInt       depth;     /* halvings of the attempt under way (0: the whole step) */
   ClothCollision collision; /* borrowed; NULL: no bodies */
   /* implicit only */
-  Mat                 A;
+  Mat                 A, op;             /* the assembled matrix; the operator of the system (A and the contacts' couplings, ClothCreateImplicitOperator) */
   MatType             mat_type;          /* the implicit matrix's default storage (ClothPreconditionerGetMatType) */
   KSP                 ksp, fallback_ksp; /* fallback_ksp: redoes the solves whose preconditioner breaks down */
   ClothPreconditioner pre;               /* keeps ksp's preconditioner between steps */
@@ -85,21 +85,14 @@ static PetscErrorCode StepExplicit(ClothIntegrator integ, PetscReal h, PetscBool
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* Cloth-cloth contacts (selfcontact.h) at the start of a (sub-)step; the implicit matrix is created
-   again when they couple particles its pattern has no room for. */
+/* Cloth-cloth contacts (selfcontact.h) at the start of a (sub-)step. */
 static PetscErrorCode UpdateSelfContact(ClothIntegrator integ, PetscReal h)
 {
   ClothSelfContact sc;
-  PetscBool        grown;
 
   PetscFunctionBeginUser;
   PetscCall(ClothGetSelfContact(integ->cloth, &sc));
-  if (!sc) PetscFunctionReturn(PETSC_SUCCESS);
-  PetscCall(ClothSelfContactUpdate(sc, h, integ->A ? &grown : NULL)); /* no matrix, no pattern to keep */
-  if (integ->A && grown) {
-    PetscCall(MatDestroy(&integ->A));
-    PetscCall(ClothCreateMatrix(integ->cloth, integ->mat_type, &integ->A));
-  }
+  if (sc) PetscCall(ClothSelfContactUpdate(sc, h));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -184,7 +177,7 @@ static PetscErrorCode SolveImplicitSystem(ClothIntegrator integ, Vec x, PetscRea
     PetscCall(VecCopy(integ->dv, integ->dv_guess));
     guess = integ->dv_guess;
   }
-  PetscCall(ClothPreconditionerPrepare(integ->pre, integ->A, x, h, &update));
+  PetscCall(ClothPreconditionerPrepare(integ->pre, integ->op, integ->A, x, h, &update));
   PetscCall(ClothPreconditionerIterationLimit(integ->pre, integ->max_it, &limit));
   PetscCall(KSPSetTolerances(integ->ksp, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT, limit));
   PetscCall(SolveFromGuess(integ, integ->ksp, guess, reason, &last_its));
@@ -195,7 +188,7 @@ static PetscErrorCode SolveImplicitSystem(ClothIntegrator integ, Vec x, PetscRea
     *its     = last_its;
     last_its = 0;
     PetscCall(ClothPreconditionerRequestRebuild(integ->pre));
-    PetscCall(ClothPreconditionerPrepare(integ->pre, integ->A, x, h, NULL));
+    PetscCall(ClothPreconditionerPrepare(integ->pre, integ->op, integ->A, x, h, NULL));
     PetscCall(KSPSetTolerances(integ->ksp, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT, integ->max_it));
     PetscCall(SolveFromGuess(integ, integ->ksp, guess, reason, &last_its));
     integ->pc_retries++;
@@ -205,7 +198,7 @@ static PetscErrorCode SolveImplicitSystem(ClothIntegrator integ, Vec x, PetscRea
   if (*reason == KSP_DIVERGED_INDEFINITE_PC || *reason == KSP_DIVERGED_PC_FAILED) {
     PetscCall(PetscInfo(NULL, "Preconditioner broke down (%s); solving again with the fallback solver\n", KSPConvergedReasons[*reason]));
     PetscCall(ClothPreconditionerRequestRebuild(integ->pre));
-    PetscCall(KSPSetOperators(integ->fallback_ksp, integ->A, integ->A));
+    PetscCall(KSPSetOperators(integ->fallback_ksp, integ->op, integ->A));
     PetscCall(SolveFromGuess(integ, integ->fallback_ksp, guess, reason, its));
     integ->pc_fallbacks++;
   }
@@ -331,6 +324,7 @@ static PetscErrorCode ClothIntegratorSetUpImplicit(ClothIntegrator integ)
   PetscCall(ClothPreconditionerSetFromOptions(integ->pre));
   PetscCall(ClothPreconditionerGetMatType(integ->pre, &integ->mat_type));
   PetscCall(ClothCreateMatrix(integ->cloth, integ->mat_type, &integ->A));
+  PetscCall(ClothCreateImplicitOperator(integ->cloth, integ->A, &integ->op));
   PetscCall(MatCreateVecs(integ->A, &integ->dv, NULL));
   PetscCall(VecDuplicate(integ->dv, &integ->start_dv));
   PetscCall(ClothCreateStateVec(integ->cloth, &integ->rhs));
@@ -535,6 +529,7 @@ PetscErrorCode ClothIntegratorDestroy(ClothIntegrator *integ)
   PetscCall(VecDestroy(&it->saved_velocity));
   PetscCall(VecDestroy(&it->start_position));
   PetscCall(VecDestroy(&it->start_velocity));
+  PetscCall(MatDestroy(&it->op));
   PetscCall(MatDestroy(&it->A));
   PetscCall(KSPDestroy(&it->ksp));
   PetscCall(KSPDestroy(&it->fallback_ksp));

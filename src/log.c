@@ -26,7 +26,7 @@ PetscErrorCode ClothLogRegister(void)
   PetscCall(PetscLogEventRegister("ClothSelfCollision", ClothLog.classid, &ClothLog.self_collision));
   PetscCall(PetscLogEventRegister("ClothSelfBuild", ClothLog.classid, &ClothLog.self_build));
   PetscCall(PetscLogEventRegister("ClothSelfFilter", ClothLog.classid, &ClothLog.self_filter));
-  PetscCall(PetscLogEventRegister("ClothSelfPattern", ClothLog.classid, &ClothLog.self_pattern));
+  PetscCall(PetscLogEventRegister("ClothSelfCoupling", ClothLog.classid, &ClothLog.self_coupling));
   PetscCall(PetscLogEventRegister("ClothSelfForces", ClothLog.classid, &ClothLog.self_forces));
   PetscCall(PetscLogEventRegister("ClothSelfImpulses", ClothLog.classid, &ClothLog.self_impulses));
   PetscCall(PetscLogEventRegister("ClothCheckpointRead", ClothLog.classid, &ClothLog.checkpoint_read));

@@ -18,14 +18,14 @@ typedef enum {
 typedef struct {
   PetscClassId  classid;
   PetscLogEvent setup, partition, forces, jacobian, solve, output, checkpoint;
-  PetscLogEvent collision, collision_grid; /* contacts with bodies (detection + response); building the cell grids */
-  PetscLogEvent self_collision;            /* cloth-cloth contact: exchange, search, repulsion, velocity filter */
-  PetscLogEvent self_build, self_filter;   /* nested in it: building the candidate list (exchange, cell grids); testing the candidates */
-  PetscLogEvent self_pattern, self_forces; /* the matrix pattern's check; repulsion and friction at an evaluation */
-  PetscLogEvent self_impulses;             /* the velocity filter's Gauss-Seidel sweeps */
-  PetscLogEvent checkpoint_read;           /* reading and checking the checkpoint of -restart */
-  PetscLogEvent block_ptap_symbolic;       /* the pattern-grid multigrid's finest Galerkin product, from the block matrix: */
-  PetscLogEvent block_ptap_numeric;        /* its pattern (once per nonzero pattern of the matrix) and its values */
+  PetscLogEvent collision, collision_grid;  /* contacts with bodies (detection + response); building the cell grids */
+  PetscLogEvent self_collision;             /* cloth-cloth contact: exchange, search, repulsion, velocity filter */
+  PetscLogEvent self_build, self_filter;    /* nested in it: building the candidate list (exchange, cell grids); testing the candidates */
+  PetscLogEvent self_coupling, self_forces; /* the contacts' couplings in a product of the implicit operator; repulsion and friction at an evaluation */
+  PetscLogEvent self_impulses;              /* the velocity filter's Gauss-Seidel sweeps */
+  PetscLogEvent checkpoint_read;            /* reading and checking the checkpoint of -restart */
+  PetscLogEvent block_ptap_symbolic;        /* the pattern-grid multigrid's finest Galerkin product, from the block matrix: */
+  PetscLogEvent block_ptap_numeric;         /* its pattern (once per nonzero pattern of the matrix) and its values */
   PetscLogStage stage_setup, stage_steps;
   PetscLogStage stage_phase[CLOTH_SETUP_PHASES]; /* "Setup: NAME", nested in "Setup" (see ClothLogPhaseBegin) */
   PetscLogEvent event_phase[CLOTH_SETUP_PHASES]; /* "SetUpNAME": the same span, for -log_view_memory's columns */

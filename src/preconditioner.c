@@ -436,8 +436,9 @@ static PetscErrorCode BlockGalerkinProduct(ClothPreconditioner pre, PetscInt l, 
    products kept (their symbolic part is done once per nonzero pattern of A). When P is a block matrix
    (-implicit_pc_grid_block_product) every product is ClothBlockPtAP's and each coarse level keeps P's storage (BAIJ,
    or SBAIJ: the upper triangle), but the coarsest, which PCMG factors (LU of AIJ); else MatPtAP of P (AIJ) at every
-   level. The finest level's residual is A's. */
-static PetscErrorCode RefreshGridOperators(ClothPreconditioner pre, PC pc, Mat A, Mat P, PetscBool new_pattern)
+   level. The finest level's residual is the system operator op's (the matrix and the contacts' couplings, which the
+   coarse levels and the point-block smoother do not see). */
+static PetscErrorCode RefreshGridOperators(ClothPreconditioner pre, PC pc, Mat op, Mat P, PetscBool new_pattern)
 {
   PetscInt  nlevels;
   Mat       fine = P, interpolation;
@@ -465,7 +466,7 @@ static PetscErrorCode RefreshGridOperators(ClothPreconditioner pre, PC pc, Mat A
     if (l > 1) PetscCall(PCMGSetResidual(pc, l - 1, PCMGResidualDefault, pre->coarse[l - 1]));
     fine = pre->coarse[l - 1];
   }
-  if (nlevels > 1) PetscCall(PCMGSetResidual(pc, nlevels - 1, PCMGResidualDefault, A));
+  if (nlevels > 1) PetscCall(PCMGSetResidual(pc, nlevels - 1, PCMGResidualDefault, op));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -502,14 +503,14 @@ static PetscErrorCode UpdatePreconditioningMatrix(ClothPreconditioner pre, Mat A
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode ClothPreconditionerPrepare(ClothPreconditioner pre, Mat A, Vec x, PetscReal h, ClothPCUpdate *update)
+PetscErrorCode ClothPreconditionerPrepare(ClothPreconditioner pre, Mat op, Mat A, Vec x, PetscReal h, ClothPCUpdate *update)
 {
   ClothPCUpdate u = pre->pending;
   Mat           P;
 
   PetscFunctionBeginUser;
   if (!pre->kept) { /* set up every step from A itself */
-    PetscCall(KSPSetOperators(pre->ksp, A, A));
+    PetscCall(KSPSetOperators(pre->ksp, op, A));
     pre->last = CLOTH_PC_REFRESH;
     pre->count[CLOTH_PC_REFRESH]++;
     if (update) *update = CLOTH_PC_REFRESH;
@@ -529,12 +530,12 @@ PetscErrorCode ClothPreconditionerPrepare(ClothPreconditioner pre, Mat A, Vec x,
   if (pre->grid && u != CLOTH_PC_LAG) {
     PC pc;
     PetscCall(KSPGetPC(pre->ksp, &pc));
-    PetscCall(RefreshGridOperators(pre, pc, A, P, A != pre->A ? PETSC_TRUE : PETSC_FALSE));
+    PetscCall(RefreshGridOperators(pre, pc, op, P, A != pre->A ? PETSC_TRUE : PETSC_FALSE));
   }
-  PetscCall(KSPSetOperators(pre->ksp, A, P));
+  PetscCall(KSPSetOperators(pre->ksp, op, P));
   PetscCall(KSPSetReusePreconditioner(pre->ksp, u == CLOTH_PC_LAG ? PETSC_TRUE : PETSC_FALSE));
   /* PCGAMG's refresh takes the finest operator of its Galerkin products from the finest smoother: give it P again */
-  PetscCall(SmoothFinestLevelWith(pre, A, u == CLOTH_PC_LAG ? A : P));
+  PetscCall(SmoothFinestLevelWith(pre, op, u == CLOTH_PC_LAG ? A : P));
   if (u != CLOTH_PC_LAG) pre->h = h;
   pre->A       = A;
   pre->last    = u;

@@ -48,9 +48,10 @@ PetscErrorCode ClothPreconditionerSetFromOptions(ClothPreconditioner pre);
    overrides it): SBAIJ for large systems preconditioned by the pattern-grid multigrid or point-block Jacobi, which
    take it as it is; BAIJ otherwise. */
 PetscErrorCode ClothPreconditionerGetMatType(ClothPreconditioner pre, MatType *type);
-/* Before a solve with A at step size h and particle positions x (solver numbering, block size 3 layout of A):
-   sets the operators of the KSP and lags, refreshes or rebuilds its preconditioner. */
-PetscErrorCode ClothPreconditionerPrepare(ClothPreconditioner pre, Mat A, Vec x, PetscReal h, ClothPCUpdate *update);
+/* Before a solve with the operator op (ClothCreateImplicitOperator: A, or A and the contacts' couplings) of the
+   assembled matrix A at step size h and particle positions x (solver numbering, block size 3 layout of A): sets the
+   operators of the KSP (op, preconditioned from A) and lags, refreshes or rebuilds its preconditioner. */
+PetscErrorCode ClothPreconditionerPrepare(ClothPreconditioner pre, Mat op, Mat A, Vec x, PetscReal h, ClothPCUpdate *update);
 /* The iteration limit of the solve after Prepare: max_it, or, for a lagged preconditioner, one more than the iterations of
    the last refreshed solve plus -implicit_pc_lag_excess. Past that count the lag has cost more than a refresh saves
    (the excess rule of ClothPreconditionerSolved), so a hierarchy that no longer fits the matrix is given up there, not

@@ -14,179 +14,16 @@
 #include "vec3.h"
 
 /* ------------------------------------------------------------------------------------------------ */
-/* Matrix pattern                                                                                   */
-
-static PetscBool StaticallyCoupled(const ClothLayout *layout, PetscInt a, PetscInt b)
-{
-  PetscInt loc;
-
-  if (PetscFindInt(b, layout->xadj[a + 1] - layout->xadj[a], &layout->adjncy[layout->xadj[a]], &loc)) return PETSC_FALSE;
-  return loc >= 0 ? PETSC_TRUE : PETSC_FALSE;
-}
-
-/* Sorts keys[0..*n) and removes the duplicates. */
-static PetscErrorCode SortUniqueInt64(PetscInt *n, PetscInt64 keys[])
-{
-  PetscInt m = 0;
-
-  PetscFunctionBeginUser;
-  PetscCall(PetscSortInt64(*n, keys));
-  for (PetscInt k = 0; k < *n; k++)
-    if (m == 0 || keys[k] != keys[m - 1]) keys[m++] = keys[k];
-  *n = m;
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-/* The blocks (row, col in solver numbering, as keys row * N + col) that this rank's contacts couple beyond the static
-   pattern; sorted, without duplicates. */
-static PetscErrorCode LocalContactBlocks(ClothSelfContact sc, PetscInt *nkeys, PetscInt64 **keys)
-{
-  const ClothLayout *layout = &sc->layout;
-  const PetscInt64   N      = layout->nglobal;
-  PetscInt           n      = 0;
-
-  PetscFunctionBeginUser;
-  PetscCall(PetscMalloc1(12 * sc->ncontacts + 1, keys));
-  for (PetscInt c = 0; c < sc->ncontacts; c++)
-    for (PetscInt j = 0; j < SELF_CONTACT_NP; j++)
-      for (PetscInt k = 0; k < SELF_CONTACT_NP; k++) {
-        const PetscInt a = sc->contacts[c].p[j], b = sc->contacts[c].p[k];
-        if (j == k || StaticallyCoupled(layout, a, b)) continue;
-        (*keys)[n++] = layout->solver_of_natural[a] * N + layout->solver_of_natural[b];
-      }
-  PetscCall(SortUniqueInt64(&n, *keys));
-  *nkeys = n;
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-/* The keys (sorted) sent to the owners of their rows; received: the keys of this rank's rows, sorted, without
-   duplicates. Collective. */
-static PetscErrorCode SendBlocksToRowOwners(ClothSelfContact sc, PetscInt nsend, const PetscInt64 send[], PetscInt *nkeys, PetscInt64 **keys)
-{
-  const ClothLayout *layout = &sc->layout;
-  const PetscInt64   N      = layout->nglobal;
-  PetscMPIInt       *scount, *rcount, *sdispl, *rdispl;
-  PetscInt64        *recv;
-  PetscInt           n = 0;
-
-  PetscFunctionBeginUser;
-  PetscCall(PetscCalloc4(sc->size, &scount, sc->size, &rcount, sc->size + 1, &sdispl, sc->size + 1, &rdispl));
-  /* sorted keys are grouped by row, and the rows by owner (solver numbering: rank r owns [row_start[r], row_start[r + 1])) */
-  for (PetscInt k = 0, r = 0; k < nsend; k++) {
-    while (send[k] / N >= sc->row_start[r + 1]) r++;
-    scount[r]++;
-  }
-  for (PetscMPIInt r = 0; r < sc->size; r++) sdispl[r + 1] = sdispl[r] + scount[r];
-  PetscCallMPI(MPI_Alltoall(scount, 1, MPI_INT, rcount, 1, MPI_INT, sc->comm));
-  for (PetscMPIInt r = 0; r < sc->size; r++) rdispl[r + 1] = rdispl[r] + rcount[r];
-  PetscCall(PetscMalloc1(rdispl[sc->size] + 1, &recv));
-  PetscCallMPI(MPI_Alltoallv(send, scount, sdispl, MPIU_INT64, recv, rcount, rdispl, MPIU_INT64, sc->comm));
-  n = rdispl[sc->size];
-  PetscCall(SortUniqueInt64(&n, recv));
-  *nkeys = n;
-  *keys  = recv;
-  PetscCall(PetscFree4(scount, rcount, sdispl, rdispl));
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-/* Are all n sorted keys in the sorted set[0..nset)? */
-static PetscBool AllKnown(PetscInt n, const PetscInt64 keys[], PetscInt nset, const PetscInt64 set[])
-{
-  PetscInt j = 0;
-
-  for (PetscInt k = 0; k < n; k++) {
-    while (j < nset && set[j] < keys[k]) j++;
-    if (j == nset || set[j] != keys[k]) return PETSC_FALSE;
-  }
-  return PETSC_TRUE;
-}
-
-/* When blocks are needed that the pattern lacks, the new pattern is the union of the needed and the
-   present ones (contacts come and go as layers slide: keeping recent blocks saves rebuilds), or only
-   the needed ones once the union has grown beyond twice their number. The blocks a rank has already found in the
-   pattern (known) are not sent again: while every rank's contacts couple known blocks only, one reduction decides.
-   Collective. */
-static PetscErrorCode UpdatePattern(ClothSelfContact sc, PetscBool *changed)
-{
-  PetscInt    n = 0, nlocal = 0, nunion = 0;
-  PetscInt64 *keys    = NULL, *mine, *both;
-  PetscBool   missing = PETSC_FALSE, unknown;
-
-  PetscFunctionBeginUser;
-  *changed = PETSC_FALSE;
-  if (!sc->any_candidates) PetscFunctionReturn(PETSC_SUCCESS); /* no contacts on any rank */
-  PetscCall(PetscLogEventBegin(ClothLog.self_pattern, 0, 0, 0, 0));
-  PetscCall(LocalContactBlocks(sc, &nlocal, &mine));
-  unknown = AllKnown(nlocal, mine, sc->nknown, sc->known) ? PETSC_FALSE : PETSC_TRUE;
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &unknown, 1, MPIU_BOOL, MPI_LOR, sc->comm));
-  if (!unknown) {
-    PetscCall(PetscFree(mine));
-    PetscCall(PetscLogEventEnd(ClothLog.self_pattern, 0, 0, 0, 0));
-    PetscFunctionReturn(PETSC_SUCCESS);
-  }
-  PetscCall(SendBlocksToRowOwners(sc, nlocal, mine, &n, &keys));
-  for (PetscInt k = 0; k < n && !missing; k++)
-    if (!bsearch(&keys[k], sc->extra, (size_t)sc->nextra, sizeof(PetscInt64), SelfContactCompareInt64)) missing = PETSC_TRUE;
-  PetscCallMPI(MPI_Allreduce(&missing, changed, 1, MPIU_BOOL, MPI_LOR, sc->comm));
-  if (!*changed) { /* all sent blocks are in the pattern: known from now on */
-    PetscCall(PetscMalloc1(sc->nknown + nlocal + 1, &both));
-    PetscCall(PetscArraycpy(both, sc->known, sc->nknown));
-    PetscCall(PetscArraycpy(both + sc->nknown, mine, nlocal));
-    nunion = sc->nknown + nlocal;
-    PetscCall(SortUniqueInt64(&nunion, both));
-    PetscCall(PetscFree(sc->known));
-    PetscCall(PetscFree(mine));
-    sc->known  = both;
-    sc->nknown = nunion;
-    PetscCall(PetscFree(keys));
-    PetscCall(PetscLogEventEnd(ClothLog.self_pattern, 0, 0, 0, 0));
-    PetscFunctionReturn(PETSC_SUCCESS);
-  }
-  /* the pattern changes: of the blocks known, only those just sent are sure to stay */
-  PetscCall(PetscFree(sc->known));
-  sc->known  = mine;
-  sc->nknown = nlocal;
-  PetscCall(PetscMalloc1(n + sc->nextra + 1, &both));
-  PetscCall(PetscArraycpy(both, keys, n));
-  PetscCall(PetscArraycpy(both + n, sc->extra, sc->nextra));
-  nunion = n + sc->nextra;
-  PetscCall(SortUniqueInt64(&nunion, both));
-  PetscCall(PetscFree(sc->extra));
-  if (nunion <= 2 * n + 64) {
-    sc->extra  = both;
-    sc->nextra = nunion;
-    PetscCall(PetscFree(keys));
-  } else {
-    sc->extra  = keys;
-    sc->nextra = n;
-    PetscCall(PetscFree(both));
-  }
-  sc->rebuilds++;
-  PetscCall(PetscLogEventEnd(ClothLog.self_pattern, 0, 0, 0, 0));
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-/* The contribution's count_row_blocks (cloth.h): the blocks the contacts couple beyond the static pattern. */
-static PetscErrorCode CountRowBlocks(void *ctx, PetscInt dnnz[], PetscInt onnz[], PetscInt dnnzu[], PetscInt onnzu[])
-{
-  const ClothSelfContact sc     = (ClothSelfContact)ctx;
-  const ClothLayout     *layout = &sc->layout;
-  const PetscInt64       N      = layout->nglobal;
-
-  PetscFunctionBeginUser;
-  for (PetscInt k = 0; k < sc->nextra; k++) {
-    const PetscInt row = (PetscInt)(sc->extra[k] / N), col = (PetscInt)(sc->extra[k] % N), i = row - layout->rstart;
-    PetscCheck(i >= 0 && i < layout->nlocal, PETSC_COMM_SELF, PETSC_ERR_PLIB, "Contact block row %" PetscInt_FMT " is not owned", row);
-    ClothCountRowBlock(layout->rstart, layout->rstart + layout->nlocal, row, col, dnnz, onnz, dnnzu, onnzu);
-  }
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-/* ------------------------------------------------------------------------------------------------ */
 /* Repulsion                                                                                        */
 
 /* Contact-local particle k's 3-vector in the owned array or the remote one. */
 static inline PetscScalar *At(ClothSelfContact sc, PetscScalar *owned, PetscScalar *remote, PetscInt k)
+{
+  return k < sc->layout.nlocal ? &owned[3 * k] : &remote[3 * (k - sc->layout.nlocal)];
+}
+
+/* A contact-local particle's 3-vector in an owned array or the remote one (read only). */
+static inline const PetscScalar *AtRead(ClothSelfContact sc, const PetscScalar *owned, const PetscScalar *remote, PetscInt k)
 {
   return k < sc->layout.nlocal ? &owned[3 * k] : &remote[3 * (k - sc->layout.nlocal)];
 }
@@ -249,41 +86,165 @@ static void ContactFilters(ClothSelfContact sc, const BodyNormals *bn, PetscInt 
   }
 }
 
-/* h2 S_j (a_j a_k K) S_k into A at the contact's rows and columns: the filtered contact stiffness (or, with h2 = h and
-   K = D, the friction's velocity Jacobian). */
+/* A contact's share of the implicit system, h2 S_j (a_j a_k K) S_k for its particles j, k (K: its stiffness; or, with
+   h2 = h and K = D, its friction's velocity Jacobian): the diagonal blocks j = k go into A, where every particle has its
+   block; the couplings j != k, between particles that no interaction of the model joins, are kept in the contact's
+   record and applied by the implicit operator (MultCoupling), so that A's pattern never changes as contacts come and
+   go. */
 static PetscErrorCode AddContactStiffness(ClothSelfContact sc, const BodyNormals *bn, PetscInt c, const PetscReal K[9], PetscReal h2, Mat A)
 {
-  const ClothContact *contact = &sc->contacts[c];
-  const PetscInt      n       = 3 * SELF_CONTACT_NP;
-  PetscInt            rows[SELF_CONTACT_NP];
-  PetscReal           S[SELF_CONTACT_NP][9], KS[9];
-  PetscScalar         H[9 * SELF_CONTACT_NP * SELF_CONTACT_NP];
+  const ClothContact  *contact = &sc->contacts[c];
+  SelfContactCoupling *rec;
 
   PetscFunctionBeginUser;
-  ContactFilters(sc, bn, c, S);
-  for (PetscInt j = 0; j < SELF_CONTACT_NP; j++) rows[j] = sc->layout.solver_of_natural[contact->p[j]];
-  for (PetscInt k = 0; k < SELF_CONTACT_NP; k++) {
-    for (PetscInt r = 0; r < 3; r++) /* KS = K S_k */
-      for (PetscInt q = 0; q < 3; q++) KS[3 * r + q] = K[3 * r] * S[k][q] + K[3 * r + 1] * S[k][3 + q] + K[3 * r + 2] * S[k][6 + q];
-    for (PetscInt j = 0; j < SELF_CONTACT_NP; j++)
-      for (PetscInt r = 0; r < 3; r++)
-        for (PetscInt q = 0; q < 3; q++) H[n * (3 * j + r) + 3 * k + q] = h2 * contact->a[j] * contact->a[k] * (S[j][3 * r] * KS[q] + S[j][3 * r + 1] * KS[3 + q] + S[j][3 * r + 2] * KS[6 + q]);
+  if (sc->coupling_of[c] < 0) { /* the contact's first share in this assembly: its record */
+    if (sc->ncouplings == sc->maxcouplings) {
+      SelfContactCoupling *more;
+      sc->maxcouplings = 2 * sc->maxcouplings + 64;
+      PetscCall(PetscMalloc1(sc->maxcouplings, &more));
+      PetscCall(PetscArraycpy(more, sc->couplings, sc->ncouplings));
+      PetscCall(PetscFree(sc->couplings));
+      sc->couplings = more;
+    }
+    sc->coupling_of[c] = sc->ncouplings;
+    rec                = &sc->couplings[sc->ncouplings++];
+    ContactFilters(sc, bn, c, rec->S);
+    for (PetscInt j = 0; j < SELF_CONTACT_NP; j++) rec->a[j] = contact->a[j], rec->local[j] = sc->local[SELF_CONTACT_NP * c + j];
+    for (PetscInt k = 0; k < 9; k++) rec->M[k] = 0;
   }
-  PetscCall(MatSetValuesBlocked(A, SELF_CONTACT_NP, rows, SELF_CONTACT_NP, rows, H, ADD_VALUES));
+  rec = &sc->couplings[sc->coupling_of[c]];
+  for (PetscInt k = 0; k < 9; k++) rec->M[k] += h2 * K[k];
+  for (PetscInt j = 0; j < SELF_CONTACT_NP; j++) {
+    const PetscInt row = sc->layout.solver_of_natural[contact->p[j]];
+    PetscReal      KS[9];
+    PetscScalar    H[9];
+
+    for (PetscInt r = 0; r < 3; r++) /* KS = K S_j */
+      for (PetscInt q = 0; q < 3; q++) KS[3 * r + q] = K[3 * r] * rec->S[j][q] + K[3 * r + 1] * rec->S[j][3 + q] + K[3 * r + 2] * rec->S[j][6 + q];
+    for (PetscInt r = 0; r < 3; r++)
+      for (PetscInt q = 0; q < 3; q++) H[3 * r + q] = h2 * contact->a[j] * contact->a[j] * (rec->S[j][3 * r] * KS[q] + rec->S[j][3 * r + 1] * KS[3 + q] + rec->S[j][3 * r + 2] * KS[6 + q]);
+    PetscCall(MatSetValuesBlocked(A, 1, &row, 1, &row, H, ADD_VALUES));
+  }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* Zero blocks at every preallocated contact block of the owned rows: PETSc compresses a matrix to the
-   blocks set in its first assembly, so every assembly sets them all, whichever contacts are active. */
-static PetscErrorCode AddPatternZeros(ClothSelfContact sc, Mat A)
+/* The contribution's mult_coupling (cloth.h): y += sum over the contacts of h2 a_j a_k S_j M S_k x_k, j != k, their
+   couplings of the last assembly (AddContactStiffness), with a_j S_j M (z - q_j), q_k = a_k S_k x_k, z their sum.
+   Collective. */
+static PetscErrorCode MultCoupling(void *ctx, Vec x, Vec y)
 {
-  const PetscInt64  N       = sc->layout.nglobal;
-  const PetscScalar zero[9] = {0};
+  ClothSelfContact   sc     = (ClothSelfContact)ctx;
+  const PetscInt     nlocal = sc->layout.nlocal;
+  const PetscScalar *xo, *xr;
+  PetscScalar       *yo, *yr;
 
   PetscFunctionBeginUser;
-  for (PetscInt k = 0; k < sc->nextra; k++) {
-    const PetscInt row = (PetscInt)(sc->extra[k] / N), col = (PetscInt)(sc->extra[k] % N);
-    PetscCall(MatSetValuesBlocked(A, 1, &row, 1, &col, zero, ADD_VALUES));
+  if (!sc->any_coupling) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(PetscLogEventBegin(ClothLog.self_coupling, 0, 0, 0, 0));
+  PetscCall(VecScatterBegin(sc->coupling_scatter, x, sc->xcoupling, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(sc->coupling_scatter, x, sc->xcoupling, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecZeroEntries(sc->ycoupling));
+  PetscCall(VecGetArrayRead(x, &xo));
+  PetscCall(VecGetArrayRead(sc->xcoupling, &xr));
+  PetscCall(VecGetArray(y, &yo));
+  PetscCall(VecGetArray(sc->ycoupling, &yr));
+  for (PetscInt c = 0; c < sc->ncouplings; c++) {
+    const SelfContactCoupling *rec = &sc->couplings[c];
+    PetscReal                  q[SELF_CONTACT_NP][3], z[3] = {0, 0, 0};
+
+    for (PetscInt k = 0; k < SELF_CONTACT_NP; k++) {
+      const PetscScalar *xk = rec->local_c[k] < nlocal ? &xo[3 * rec->local_c[k]] : &xr[3 * (rec->local_c[k] - nlocal)];
+      for (PetscInt r = 0; r < 3; r++) q[k][r] = rec->a[k] * (rec->S[k][3 * r] * PetscRealPart(xk[0]) + rec->S[k][3 * r + 1] * PetscRealPart(xk[1]) + rec->S[k][3 * r + 2] * PetscRealPart(xk[2]));
+      for (PetscInt r = 0; r < 3; r++) z[r] += q[k][r];
+    }
+    for (PetscInt j = 0; j < SELF_CONTACT_NP; j++) {
+      PetscScalar *yj = rec->local_c[j] < nlocal ? &yo[3 * rec->local_c[j]] : &yr[3 * (rec->local_c[j] - nlocal)];
+      PetscReal    w[3], Mw[3];
+      for (PetscInt r = 0; r < 3; r++) w[r] = z[r] - q[j][r];
+      for (PetscInt r = 0; r < 3; r++) Mw[r] = rec->M[3 * r] * w[0] + rec->M[3 * r + 1] * w[1] + rec->M[3 * r + 2] * w[2];
+      for (PetscInt r = 0; r < 3; r++) yj[r] += rec->a[j] * (rec->S[j][3 * r] * Mw[0] + rec->S[j][3 * r + 1] * Mw[1] + rec->S[j][3 * r + 2] * Mw[2]);
+    }
+  }
+  PetscCall(PetscLogFlops(200.0 * sc->ncouplings));
+  PetscCall(VecRestoreArray(sc->ycoupling, &yr));
+  PetscCall(VecRestoreArray(y, &yo));
+  PetscCall(VecRestoreArrayRead(sc->xcoupling, &xr));
+  PetscCall(VecRestoreArrayRead(x, &xo));
+  PetscCall(VecScatterBegin(sc->coupling_scatter, sc->ycoupling, y, ADD_VALUES, SCATTER_REVERSE));
+  PetscCall(VecScatterEnd(sc->coupling_scatter, sc->ycoupling, y, ADD_VALUES, SCATTER_REVERSE));
+  PetscCall(PetscLogEventEnd(ClothLog.self_coupling, 0, 0, 0, 0));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Starts the couplings of an assembly: no contact has a record yet. */
+static PetscErrorCode BeginCouplings(ClothSelfContact sc)
+{
+  PetscFunctionBeginUser;
+  if (sc->ncontacts > sc->maxcoupling_of) {
+    PetscCall(PetscFree(sc->coupling_of));
+    sc->maxcoupling_of = sc->ncontacts + sc->ncontacts / 4;
+    PetscCall(PetscMalloc1(sc->maxcoupling_of, &sc->coupling_of));
+  }
+  for (PetscInt c = 0; c < sc->ncontacts; c++) sc->coupling_of[c] = -1;
+  sc->ncouplings = 0;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The remote particles of the couplings (coupling_remote, sorted natural indices; each record's particles numbered
+   owned, then by their place there in local_c) and the scatter that brings a product's input to them and its output
+   back: only the few particles in contact move at every product, not every particle near another rank. Rebuilt when
+   the set changes. Collective. */
+static PetscErrorCode SetCouplingScatter(ClothSelfContact sc)
+{
+  const PetscInt nlocal = sc->layout.nlocal;
+  PetscInt       n      = 0, *list;
+  PetscBool      same, all_same;
+
+  PetscFunctionBeginUser;
+  sc->any_coupling = sc->ncouplings > 0 ? PETSC_TRUE : PETSC_FALSE;
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &sc->any_coupling, 1, MPIU_BOOL, MPI_LOR, sc->comm));
+  if (!sc->any_coupling) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(PetscMalloc1(SELF_CONTACT_NP * sc->ncouplings + 1, &list));
+  for (PetscInt c = 0; c < sc->ncouplings; c++)
+    for (PetscInt k = 0; k < SELF_CONTACT_NP; k++)
+      if (sc->couplings[c].local[k] >= nlocal) list[n++] = sc->natural_of[sc->couplings[c].local[k]];
+  PetscCall(PetscSortRemoveDupsInt(&n, list));
+  for (PetscInt c = 0; c < sc->ncouplings; c++)
+    for (PetscInt k = 0; k < SELF_CONTACT_NP; k++) {
+      const PetscInt l = sc->couplings[c].local[k];
+      PetscInt       at;
+      if (l < nlocal) {
+        sc->couplings[c].local_c[k] = l;
+        continue;
+      }
+      PetscCall(PetscFindInt(sc->natural_of[l], n, list, &at));
+      sc->couplings[c].local_c[k] = nlocal + at;
+    }
+  same = (sc->coupling_scatter && n == sc->ncoupling_remote) ? PETSC_TRUE : PETSC_FALSE;
+  for (PetscInt k = 0; same && k < n; k++)
+    if (list[k] != sc->coupling_remote[k]) same = PETSC_FALSE;
+  PetscCallMPI(MPI_Allreduce(&same, &all_same, 1, MPIU_BOOL, MPI_LAND, sc->comm));
+  if (all_same) {
+    PetscCall(PetscFree(list));
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
+  PetscCall(PetscFree(sc->coupling_remote));
+  sc->coupling_remote  = list;
+  sc->ncoupling_remote = n;
+  PetscCall(VecScatterDestroy(&sc->coupling_scatter));
+  PetscCall(VecDestroy(&sc->xcoupling));
+  PetscCall(VecDestroy(&sc->ycoupling));
+  PetscCall(VecCreateSeq(PETSC_COMM_SELF, 3 * n, &sc->xcoupling));
+  PetscCall(VecSetBlockSize(sc->xcoupling, 3));
+  PetscCall(VecDuplicate(sc->xcoupling, &sc->ycoupling));
+  {
+    PetscInt *solver;
+    IS        from;
+    PetscCall(PetscMalloc1(n + 1, &solver));
+    for (PetscInt k = 0; k < n; k++) solver[k] = sc->layout.solver_of_natural[list[k]];
+    PetscCall(ISCreateBlock(PETSC_COMM_SELF, 3, n, solver, PETSC_OWN_POINTER, &from));
+    PetscCall(VecScatterCreate(sc->position, from, sc->xcoupling, NULL, &sc->coupling_scatter));
+    PetscCall(ISDestroy(&from));
   }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -296,6 +257,10 @@ static PetscErrorCode AddRepulsion(ClothSelfContact sc, Vec position, Vec veloci
   BodyNormals  bn = {NULL, NULL, NULL};
 
   PetscFunctionBeginUser;
+  if (A) {
+    PetscCall(BeginCouplings(sc));
+    sc->any_coupling = PETSC_FALSE;
+  }
   /* no search yet, or no contact possible since the candidate list's build (on every rank alike) */
   if (!sc->remote_scatter || !sc->any_candidates) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(PetscLogEventBegin(ClothLog.self_collision, 0, 0, 0, 0));
@@ -340,7 +305,7 @@ static PetscErrorCode AddRepulsion(ClothSelfContact sc, Vec position, Vec veloci
   }
   PetscCall(PetscLogFlops(200.0 * sc->ncontacts));
   PetscCall(BodyNormalsRestore(sc, &bn));
-  if (A) PetscCall(AddPatternZeros(sc, A));
+  if (A) PetscCall(SetCouplingScatter(sc));
   if (kv) {
     PetscCall(VecRestoreArray(sc->kvremote, &kr));
     PetscCall(VecRestoreArray(kv, &k));
@@ -387,12 +352,6 @@ static PetscErrorCode ContactPush(ClothSelfContact sc, PetscInt c, PetscScalar *
   for (PetscInt q = 0; q < 3; q++) n[q] = r[q] / d;
   *push = PetscSqrtReal(Dot3(frep, frep));
   PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-/* A contact-local particle's 3-vector in an owned array or the remote one (read only). */
-static inline const PetscScalar *AtRead(ClothSelfContact sc, const PetscScalar *owned, const PetscScalar *remote, PetscInt k)
-{
-  return k < sc->layout.nlocal ? &owned[3 * k] : &remote[3 * (k - sc->layout.nlocal)];
 }
 
 /* Every owned particle's net repulsion R = sum_c a_k push_c n_c (contact_push) over the contacts of all ranks, and its
@@ -780,9 +739,12 @@ PetscErrorCode ClothSelfContactSetFromOptions(ClothSelfContact sc)
   PetscCall(PetscOptionsInt("-self_collision_exclude_ring", "Particles of one piece this many grid rings apart or closer never collide", "ClothSelfContactUpdate", sc->exclude_ring, &sc->exclude_ring, NULL));
   PetscCall(PetscOptionsReal("-self_collision_min_gap", "Impulses keep every gap above this fraction of the thickness", "ClothSelfContactFilterVelocity", sc->min_gap, &sc->min_gap, NULL));
   PetscCall(PetscOptionsInt("-self_collision_impulse_iterations", "Largest number of Gauss-Seidel sweeps of the impulse filter per step", "ClothSelfContactFilterVelocity", sc->impulse_iterations, &sc->impulse_iterations, NULL));
-  PetscCall(PetscOptionsReal("-self_collision_exclude_thicknesses", "Particles of one piece closer in the pattern than this many thicknesses never collide (the exclusion ring widens to it)", "ClothSelfContactUpdate", sc->exclude_thicknesses, &sc->exclude_thicknesses, NULL));
-  PetscCall(PetscOptionsReal("-self_collision_skin", "Broad phase: two tiles of the fabric keep their pairs of primitives while they move as one, relative motion and deformation below this fraction of the thickness", "ClothSelfContactUpdate", sc->skin, &sc->skin, NULL));
-  PetscCall(PetscOptionsReal("-self_collision_velocity_margin", "Candidates found at a step's start serve the velocity filter's search while no particle's displacement over the step has changed by more than this fraction of the thickness", "ClothSelfContactUpdate", sc->velocity_margin, &sc->velocity_margin, NULL));
+  PetscCall(PetscOptionsReal("-self_collision_exclude_thicknesses", "Particles of one piece closer in the pattern than this many thicknesses never collide (the exclusion ring widens to it)", "ClothSelfContactUpdate", sc->exclude_thicknesses,
+                             &sc->exclude_thicknesses, NULL));
+  PetscCall(PetscOptionsReal("-self_collision_skin", "Broad phase: two tiles of the fabric keep their pairs of primitives while they move as one, relative motion and deformation below this fraction of the thickness", "ClothSelfContactUpdate",
+                             sc->skin, &sc->skin, NULL));
+  PetscCall(PetscOptionsReal("-self_collision_velocity_margin", "Candidates found at a step's start serve the velocity filter's search while no particle's displacement over the step has changed by more than this fraction of the thickness",
+                             "ClothSelfContactUpdate", sc->velocity_margin, &sc->velocity_margin, NULL));
   PetscCall(PetscOptionsBool("-self_collision_friction", "Regularised Coulomb friction between layers in contact, in the implicit step", "ClothSelfContactGetContribution", sc->friction, &sc->friction, NULL));
   PetscCall(PetscOptionsReal("-self_collision_friction_coefficient", "Friction coefficient mu between layers", "ClothSelfContactGetContribution", sc->friction_coefficient, &sc->friction_coefficient, NULL));
   PetscCall(PetscOptionsReal("-self_collision_friction_velocity", "Friction between layers: regularisation velocity eps_v, m/s", "ClothSelfContactGetContribution", sc->friction_velocity, &sc->friction_velocity, NULL));
@@ -831,9 +793,6 @@ PetscErrorCode ClothSelfContactSetUp(ClothSelfContact sc)
   PetscCall(SelfContactSetExclusionRings(sc));
   PetscCall(SelfContactBuildTiles(sc, layout->scene, layout->model));
   PetscCall(PetscMalloc1(3 * layout->nlocal + 1, &sc->dx0));
-  PetscCall(PetscMalloc1(sc->size + 1, &sc->row_start));
-  sc->row_start[sc->size] = layout->nglobal;
-  PetscCallMPI(MPI_Allgather(&layout->rstart, 1, MPIU_INT, sc->row_start, 1, MPIU_INT, sc->comm));
   PetscCall(PetscMalloc1(layout->nglobal, &sc->contact_index));
   for (PetscInt g = 0; g < layout->nglobal; g++) sc->contact_index[g] = -1;
   PetscCall(CellGridCreate(&sc->tile_grid));
@@ -852,7 +811,7 @@ static PetscErrorCode AddContribution(void *ctx, const ClothContributionArgs *ar
 PetscErrorCode ClothSelfContactGetContribution(ClothSelfContact sc, ClothContribution *contribution)
 {
   PetscFunctionBeginUser;
-  *contribution = (ClothContribution){.name = "self-contact", .ctx = sc, .add = AddContribution, .count_row_blocks = CountRowBlocks, .add_to_implicit_step = AddFrictionToImplicitStep};
+  *contribution = (ClothContribution){.name = "self-contact", .ctx = sc, .add = AddContribution, .add_to_implicit_step = AddFrictionToImplicitStep, .mult_coupling = MultCoupling};
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -871,14 +830,13 @@ PetscErrorCode ClothSelfContactSetExclusion(ClothSelfContact sc, ClothSelfContac
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode ClothSelfContactUpdate(ClothSelfContact sc, PetscReal h, PetscBool *pattern_changed)
+PetscErrorCode ClothSelfContactUpdate(ClothSelfContact sc, PetscReal h)
 {
   PetscFunctionBeginUser;
   PetscCall(ClothSelfContactSetUp(sc));
   PetscCall(PetscLogEventBegin(ClothLog.self_collision, 0, 0, 0, 0));
   /* at the velocities of the start of the step; the velocity filter searches again at the new ones */
   PetscCall(SelfContactSearch(sc, sc->thickness, sc->velocity, h));
-  if (pattern_changed) PetscCall(UpdatePattern(sc, pattern_changed));
   sc->searches++;
   sc->contacts_found += sc->ncontacts;
   for (PetscInt c = 0; c < sc->ncontacts; c++) sc->edge_contacts_found += sc->contacts[c].kind == CLOTH_CONTACT_EDGE_EDGE;
@@ -943,14 +901,18 @@ PetscErrorCode ClothSelfContactView(ClothSelfContact sc, PetscViewer viewer)
     PetscCall(PetscViewerASCIIPrintf(viewer, "Self-collision: off\n"));
     PetscFunctionReturn(PETSC_SUCCESS);
   }
-  PetscCall(PetscViewerASCIIPrintf(viewer, "Self-collision: thickness %g m, stiffness %g N/m, particles within %" PetscInt_FMT " ring(s) (and %g thicknesses, %" PetscInt_FMT " ring(s) on the first piece) excluded%s, impulses keep gaps above %g x thickness\n",
-                                   (double)sc->thickness, (double)sc->stiffness, sc->exclude_ring, (double)sc->exclude_thicknesses, sc->ring ? sc->ring[0] : sc->exclude_ring, sc->same_piece ? "" : ", one piece never collides with itself", (double)sc->min_gap));
-  PetscCall(PetscViewerASCIIPrintf(viewer, "  %" PetscInt_FMT " searches, %.1f contacts per search (%.1f edge-edge), %" PetscInt_FMT " impulses, %" PetscInt_FMT " matrix pattern rebuilds, %" PetscInt_FMT " remote particles at the last search\n", sc->searches,
-                                   sc->searches ? (double)sum[0] / (double)sc->searches : 0.0, sc->searches ? (double)sum[4] / (double)sc->searches : 0.0, (PetscInt)sum[1], sc->rebuilds, (PetscInt)sum[2]));
+  PetscCall(PetscViewerASCIIPrintf(
+      viewer, "Self-collision: thickness %g m, stiffness %g N/m, particles within %" PetscInt_FMT " ring(s) (and %g thicknesses, %" PetscInt_FMT " ring(s) on the first piece) excluded%s, impulses keep gaps above %g x thickness\n",
+      (double)sc->thickness, (double)sc->stiffness, sc->exclude_ring, (double)sc->exclude_thicknesses, sc->ring ? sc->ring[0] : sc->exclude_ring, sc->same_piece ? "" : ", one piece never collides with itself", (double)sc->min_gap));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "  %" PetscInt_FMT " searches, %.1f contacts per search (%.1f edge-edge), %" PetscInt_FMT " impulses, %" PetscInt_FMT " remote particles at the last search\n", sc->searches,
+                                   sc->searches ? (double)sum[0] / (double)sc->searches : 0.0, sc->searches ? (double)sum[4] / (double)sc->searches : 0.0, (PetscInt)sum[1], (PetscInt)sum[2]));
   PetscCall(PetscViewerASCIIPrintf(viewer, "  candidates (velocity margin %g x thickness): found %" PetscInt_FMT " times, %.1f per search (%.3f per particle), at most %" PetscInt_FMT " on a rank\n", (double)sc->velocity_margin, sc->builds,
                                    sc->builds ? (double)sum[3] / (double)sc->builds : 0.0, sc->builds ? (double)sum[3] / (double)sc->builds / (double)sc->layout.nglobal : 0.0, cmax));
-  PetscCall(PetscViewerASCIIPrintf(viewer, "  broad phase (tiles of %d x %d cells, skin %g x thickness): %.1f pairs of tiles near each other a search, %.1f %% of them proved apart, %.1f %% keeping their pairs of primitives from the last step; %.1f pairs of primitives (%.3f per particle) a search\n", SELF_CONTACT_TILE,
-                                   SELF_CONTACT_TILE, (double)sc->skin, sc->builds ? (double)sum[5] / (double)sc->builds : 0.0, sum[5] ? 100.0 * (double)sum[6] / (double)sum[5] : 0.0, sum[5] ? 100.0 * (double)sum[7] / (double)sum[5] : 0.0, sc->builds ? (double)sum[8] / (double)sc->builds : 0.0, sc->builds ? (double)sum[8] / (double)sc->builds / (double)sc->layout.nglobal : 0.0));
+  PetscCall(PetscViewerASCIIPrintf(viewer,
+                                   "  broad phase (tiles of %d x %d cells, skin %g x thickness): %.1f pairs of tiles near each other a search, %.1f %% of them proved apart, %.1f %% keeping their pairs of primitives from the last step; %.1f pairs of "
+                                   "primitives (%.3f per particle) a search\n",
+                                   SELF_CONTACT_TILE, SELF_CONTACT_TILE, (double)sc->skin, sc->builds ? (double)sum[5] / (double)sc->builds : 0.0, sum[5] ? 100.0 * (double)sum[6] / (double)sum[5] : 0.0,
+                                   sum[5] ? 100.0 * (double)sum[7] / (double)sum[5] : 0.0, sc->builds ? (double)sum[8] / (double)sc->builds : 0.0, sc->builds ? (double)sum[8] / (double)sc->builds / (double)sc->layout.nglobal : 0.0));
   if (sc->friction)
     PetscCall(PetscViewerASCIIPrintf(viewer, "  friction between layers: regularised Coulomb, mu %g, eps_v %g m/s, %" PetscInt_FMT " load sweeps\n", (double)sc->friction_coefficient, (double)sc->friction_velocity, sc->friction_load_sweeps));
   else
@@ -979,11 +941,10 @@ PetscErrorCode ClothSelfContactDestroy(ClothSelfContact *sc)
   PetscCall(PetscFree(s->dx0));
   PetscCall(PetscFree(s->ring));
   PetscCall(PetscFree(s->candidates));
-  PetscCall(PetscFree(s->known));
-  PetscCall(PetscFree(s->row_start));
+  PetscCall(PetscFree(s->couplings));
+  PetscCall(PetscFree(s->coupling_of));
   PetscCall(SelfContactDestroyTiles(s));
   PetscCall(PetscFree2(s->contacts, s->local));
-  PetscCall(PetscFree(s->extra));
   PetscCall(VecDestroy(&s->xremote));
   PetscCall(VecDestroy(&s->vremote));
   PetscCall(VecDestroy(&s->fremote));
@@ -995,6 +956,10 @@ PetscErrorCode ClothSelfContactDestroy(ClothSelfContact *sc)
   PetscCall(VecDestroy(&s->contact_press));
   PetscCall(VecDestroy(&s->support));
   PetscCall(VecDestroy(&s->wremote));
+  PetscCall(VecDestroy(&s->xcoupling));
+  PetscCall(VecDestroy(&s->ycoupling));
+  PetscCall(VecScatterDestroy(&s->coupling_scatter));
+  PetscCall(PetscFree(s->coupling_remote));
   PetscCall(VecScatterDestroy(&s->remote_scatter));
   PetscCall(PetscFree(*sc));
   PetscFunctionReturn(PETSC_SUCCESS);

@@ -59,12 +59,10 @@ PetscErrorCode ClothSelfContactSetUp(ClothSelfContact sc);
 PetscErrorCode ClothSelfContactGetEnabled(ClothSelfContact sc, PetscBool *enabled);
 /* Sets the exclusion callback (NULL: none); it is asked about every particle pair of a candidate contact. */
 PetscErrorCode ClothSelfContactSetExclusion(ClothSelfContact sc, ClothSelfContactExcludeFn exclude, void *ctx);
-/* Finds the contacts at the cloth's current state for a step of h: primitives closer than the
-   thickness plus the relative travel of their closest points over the step at the current velocities
-   (swept boxes in the cell grid). *pattern_changed (collective) tells that pairs of particles appeared
-   that the implicit matrix has no room for: the caller must then create it again with
-   ClothCreateMatrix; pattern_changed NULL: no matrix to keep (explicit integrators). Collective. */
-PetscErrorCode ClothSelfContactUpdate(ClothSelfContact sc, PetscReal h, PetscBool *pattern_changed);
+/* Finds the contacts at the cloth's current state for a step of h: primitives that come within the thickness during
+   the step at the current velocities (their separation moving with the relative travel of their closest points).
+   Collective. */
+PetscErrorCode ClothSelfContactUpdate(ClothSelfContact sc, PetscReal h);
 /* The same search within radius (no travel) and without touching the matrix pattern; for tests. */
 PetscErrorCode ClothSelfContactFind(ClothSelfContact sc, PetscReal radius);
 /* The candidate list's skin (fraction of the thickness that particles may move before it is built again) and how

@@ -7,10 +7,10 @@
 #include "selfcontact.h"
 #include "cellgrid.h"
 
-#define SELF_CONTACT_NP 4                                                  /* particles of a contact element */
-#define SELF_CONTACT_TILE 4                                                /* cells per side of a tile, the unit of the broad phase */
+#define SELF_CONTACT_NP 4                                                        /* particles of a contact element */
+#define SELF_CONTACT_TILE 4                                                      /* cells per side of a tile, the unit of the broad phase */
 #define SELF_CONTACT_CLOSURE ((SELF_CONTACT_TILE + 1) * (SELF_CONTACT_TILE + 1)) /* particles of a tile's rectangle */
-#define SELF_CONTACT_PIECE_TILES 4                                         /* per piece: first tile, tiles along i and j, particles along i */
+#define SELF_CONTACT_PIECE_TILES 4                                               /* per piece: first tile, tiles along i and j, particles along i */
 
 /* A tile: the cells [i0, i1) x [j0, j1) of a piece (its particles [i0, i1] x [j0, j1]), the ti-th along i and tj-th
    along j, of which ncells are in the pattern (a cut-out removes some). */
@@ -25,6 +25,14 @@ typedef struct {
 } SelfContactPrimitivePair;
 
 typedef struct _n_SelfContactSnapshot *SelfContactSnapshot; /* selfcontact_tiles.c */
+
+/* A contact's couplings in the implicit system: h2 a_j a_k S_j M S_k between its particles (contact-local), M its
+   stiffness (and friction Jacobian) times the step's factors, S their constraint filters (row-major). */
+typedef struct {
+  PetscReal a[SELF_CONTACT_NP], M[9], S[SELF_CONTACT_NP][9];
+  PetscInt  local[SELF_CONTACT_NP];   /* contact-local */
+  PetscInt  local_c[SELF_CONTACT_NP]; /* owned, then the place among the couplings' remote particles (SetCouplingScatter) */
+} SelfContactCoupling;
 typedef struct _n_SelfContactTilePair *SelfContactTilePair; /* selfcontact_tiles.c */
 
 /* A pair of primitives of the candidate list: kind and particles as in ClothContact (natural numbering), and their
@@ -62,12 +70,12 @@ struct _n_ClothSelfContact {
   void                     *exclude_ctx;
 
   /* static topology, natural numbering */
-  PetscInt  ntri, *tri;                 /* 3 per triangle */
-  PetscInt  nedge, *edge;               /* 2 per edge, lower particle first */
-  PetscInt *tri_start, *tri_of;         /* particle -> incident triangles (CSR) */
-  PetscInt *edge_start, *edge_of;       /* particle -> incident edges (CSR) */
-  PetscInt *piece_of, *grid_i, *grid_j; /* per particle: its piece and grid position in it */
-  PetscInt  ntiles, *piece_tiles;       /* tiles; per piece SELF_CONTACT_PIECE_TILES numbers */
+  PetscInt         ntri, *tri;                 /* 3 per triangle */
+  PetscInt         nedge, *edge;               /* 2 per edge, lower particle first */
+  PetscInt        *tri_start, *tri_of;         /* particle -> incident triangles (CSR) */
+  PetscInt        *edge_start, *edge_of;       /* particle -> incident edges (CSR) */
+  PetscInt        *piece_of, *grid_i, *grid_j; /* per particle: its piece and grid position in it */
+  PetscInt         ntiles, *piece_tiles;       /* tiles; per piece SELF_CONTACT_PIECE_TILES numbers */
   SelfContactTile *tiles;
   PetscInt        *tile_tri_start, *tile_tri_of;           /* tile -> triangles (CSR) */
   PetscInt        *tile_edge_start, *tile_edge_of;         /* tile -> edges */
@@ -75,31 +83,31 @@ struct _n_ClothSelfContact {
 
   /* the last search: "contact-local" particles are the owned ones (0 .. nlocal-1, solver order)
      followed by the remote ones received from other ranks */
-  PetscInt      nremote, *remote_natural;
-  PetscInt      nremote_prev;         /* remote particles listed in natural_of */
-  PetscInt     *tile_present, *tile_mark; /* per tile: its index among the present tiles of the search (-1: none); the query that last visited a present tile */
-  PetscInt     *present_tiles, npresent_tiles, maxpresent_tiles;
-  PetscInt      visit;
-  SelfContactSnapshot      *snapshots;                /* per tile (NULL: none yet) */
-  SelfContactTilePair       kept, fresh;              /* pairs of tiles with their pairs of primitives: of the last broad phase (sorted by key), and the one under way */
+  PetscInt                  nremote, *remote_natural;
+  PetscInt                  nremote_prev;             /* remote particles listed in natural_of */
+  PetscInt                 *tile_present, *tile_mark; /* per tile: its index among the present tiles of the search (-1: none); the query that last visited a present tile */
+  PetscInt                 *present_tiles, npresent_tiles, maxpresent_tiles;
+  PetscInt                  visit;
+  SelfContactSnapshot      *snapshots;   /* per tile (NULL: none yet) */
+  SelfContactTilePair       kept, fresh; /* pairs of tiles with their pairs of primitives: of the last broad phase (sorted by key), and the one under way */
   PetscInt                  nkept, maxkept, nfresh, maxfresh;
   SelfContactPrimitivePair *kept_pairs, *pairs; /* their pairs of primitives */
   PetscInt                  nkept_pairs, maxkept_pairs, npairs, maxpairs;
   PetscInt                 *scratch_ids, *scratch_ij; /* room (scratch_room each) for the primitives of two tiles, their particles' grid positions and their boxes */
   PetscInt                  scratch_room;
   PetscReal                *scratch_boxes;
-  PetscInt     *natural_of;                                            /* contact-local -> natural */
-  PetscInt     *contact_index;                                         /* natural -> contact-local, -1 when not present (size N) */
-  PetscReal    *x, *dx;                                                /* contact-local positions at the search, displacements over the step */
-  PetscReal    *x0;                                                    /* contact-local positions when the candidates were found */
-  PetscReal    *dx0;                                                   /* the owned particles' displacements over the step then (3 nlocal) */
-  PetscInt      nalloc;                                                /* contact-local particles natural_of, x, dx, x0 have room for */
-  Vec           xremote, vremote, fremote, kvremote, bremote, wremote; /* bremote: body-contact normals; wremote: load vectors */
-  VecScatter    remote_scatter;                                        /* cloth state -> remote particles */
-  CellGrid      tile_grid;                                             /* the cell grid of the tiles' boxes of the last search */
-  PetscInt      ncontacts, maxcontacts;
-  ClothContact *contacts; /* natural numbering */
-  PetscInt     *local;    /* 4 contact-local indices per contact */
+  PetscInt                 *natural_of;                                            /* contact-local -> natural */
+  PetscInt                 *contact_index;                                         /* natural -> contact-local, -1 when not present (size N) */
+  PetscReal                *x, *dx;                                                /* contact-local positions at the search, displacements over the step */
+  PetscReal                *x0;                                                    /* contact-local positions when the candidates were found */
+  PetscReal                *dx0;                                                   /* the owned particles' displacements over the step then (3 nlocal) */
+  PetscInt                  nalloc;                                                /* contact-local particles natural_of, x, dx, x0 have room for */
+  Vec                       xremote, vremote, fremote, kvremote, bremote, wremote; /* bremote: body-contact normals; wremote: load vectors */
+  VecScatter                remote_scatter;                                        /* cloth state -> remote particles */
+  CellGrid                  tile_grid;                                             /* the cell grid of the tiles' boxes of the last search */
+  PetscInt                  ncontacts, maxcontacts;
+  ClothContact             *contacts; /* natural numbering */
+  PetscInt                 *local;    /* 4 contact-local indices per contact */
 
   /* the candidates: every pair of primitives that comes within list_radius + 2 list_margin during the step at the
      positions x0 and displacements dx0 of their search (swept boxes). They hold every contact within list_radius for
@@ -113,22 +121,19 @@ struct _n_ClothSelfContact {
   PetscInt              builds;     /* statistics: searches that found candidates anew, candidates summed over them and the most at one (this rank) */
   PetscInt64            candidates_built;
   PetscInt              candidates_max;
-  PetscInt64            primitive_pairs_total;                          /* statistics: pairs of primitives given to the narrow phase, summed over searches */
+  PetscInt64            primitive_pairs_total;                         /* statistics: pairs of primitives given to the narrow phase, summed over searches */
   PetscInt64            tile_pairs, tile_pairs_apart, tile_pairs_kept; /* statistics: pairs of tiles whose boxes overlapped, those proved apart, those whose pairs of primitives were kept */
-  PetscInt             *ring; /* per piece: particles this many grid rings apart or closer never collide (SelfContactSetExclusionRings) */
+  PetscInt             *ring;                                          /* per piece: particles this many grid rings apart or closer never collide (SelfContactSetExclusionRings) */
 
-  /* keys of the contact blocks this rank has sent to the rows' owners and found in the matrix pattern since it last
-     changed (sorted): contacts whose blocks are all here need no exchange to know the pattern holds them */
-  PetscInt   *row_start; /* solver numbering: rank r owns the rows row_start[r] .. row_start[r + 1] - 1 */
-  PetscInt    nknown;
-  PetscInt64 *known;
-
-  /* blocks of the implicit matrix beyond the static pattern, for owned rows: keys row * N + col (solver) */
-  PetscInt    nextra;
-  PetscInt64 *extra;
-  PetscInt    rebuilds;                           /* how often the matrix pattern had to grow */
-  PetscInt    searches, impulses;                   /* statistics for the view (summed over ranks where relevant) */
-  PetscInt64  contacts_found, edge_contacts_found; /* contacts at the step's starts, and of them edge-edge ones */
+  /* the couplings of the last assembly (AddContactStiffness, MultCoupling): per contact with a share in it, its record */
+  PetscInt             ncouplings, maxcouplings, *coupling_of, maxcoupling_of; /* coupling_of: contact -> record, -1: none */
+  SelfContactCoupling *couplings;
+  PetscBool            any_coupling;         /* on some rank (collective) */
+  Vec                  xcoupling, ycoupling; /* the couplings' remote particles' entries of a product */
+  VecScatter           coupling_scatter;
+  PetscInt             ncoupling_remote, *coupling_remote;
+  PetscInt             searches, impulses;                  /* statistics for the view (summed over ranks where relevant) */
+  PetscInt64           contacts_found, edge_contacts_found; /* contacts at the step's starts, and of them edge-edge ones */
 };
 
 /* qsort order of PetscInt64 keys, increasing. */

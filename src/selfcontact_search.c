@@ -166,7 +166,7 @@ PetscErrorCode SelfContactBuildGridPositions(ClothSelfContact sc, Scene scene, C
 
 PetscErrorCode SelfContactSetExclusionRings(ClothSelfContact sc)
 {
-  const ClothLayout *layout = &sc->layout;
+  const ClothLayout *layout  = &sc->layout;
   const PetscInt     npieces = layout->model->npieces;
   PetscReal         *spacing;
 
@@ -313,6 +313,7 @@ static PetscErrorCode SetRemoteParticles(ClothSelfContact sc, PetscInt nrecv, Pe
   PetscCall(VecDuplicate(sc->xremote, &sc->kvremote));
   PetscCall(VecDuplicate(sc->xremote, &sc->bremote));
   PetscCall(VecDuplicate(sc->xremote, &sc->wremote));
+
   PetscCall(PetscMalloc1(nrecv + 1, &solver));
   for (PetscInt k = 0; k < nrecv; k++) solver[k] = layout->solver_of_natural[recv[k]];
   PetscCall(ISCreateBlock(PETSC_COMM_SELF, 3, nrecv, solver, PETSC_OWN_POINTER, &from));

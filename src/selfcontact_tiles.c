@@ -115,7 +115,7 @@ static PetscInt TileClosure(const ClothSelfContact sc, PetscInt t, PetscInt g[])
 {
   const SelfContactTile *tile   = &sc->tiles[t];
   const PetscInt         offset = sc->layout.model->piece_offset[tile->piece], nu = sc->piece_tiles[SELF_CONTACT_PIECE_TILES * tile->piece + 3];
-  PetscInt               n      = 0;
+  PetscInt               n = 0;
 
   for (PetscInt j = tile->j0; j <= tile->j1; j++)
     for (PetscInt i = tile->i0; i <= tile->i1; i++) g[n++] = offset + j * nu + i;
@@ -153,7 +153,7 @@ struct _n_SelfContactSnapshot {
 /* The gradient (3 x 2) of the affine map from grid indices to positions over triangle t (all present). */
 static void TriangleGradient(ClothSelfContact sc, PetscInt t, PetscReal grad[6])
 {
-  const PetscInt  *v = &sc->tri[3 * t];
+  const PetscInt  *v  = &sc->tri[3 * t];
   const PetscReal *x0 = &sc->x[3 * sc->contact_index[v[0]]], *x1 = &sc->x[3 * sc->contact_index[v[1]]], *x2 = &sc->x[3 * sc->contact_index[v[2]]];
   const PetscReal  a = sc->grid_i[v[1]] - sc->grid_i[v[0]], b = sc->grid_i[v[2]] - sc->grid_i[v[0]], c = sc->grid_j[v[1]] - sc->grid_j[v[0]], d = sc->grid_j[v[2]] - sc->grid_j[v[0]];
   const PetscReal  det = a * d - b * c; /* [e1 e2] = grad [[a b] [c d]] */
@@ -323,11 +323,11 @@ static PetscBool TileNeighbours(const SelfContactTile *P, const SelfContactTile 
    curved layer moving as one thus has no pair of primitives to test. False when U is not whole here. */
 static PetscBool TilesApart(ClothSelfContact sc, const SelfContactTileState *state, const SelfContactTile *P, const SelfContactTile *Q, PetscReal rho)
 {
-  const PetscInt             piece = P->piece, ring = sc->ring[piece], *pt = &sc->piece_tiles[SELF_CONTACT_PIECE_TILES * piece];
-  const PetscInt             ti0 = PetscMin(P->ti, Q->ti), ti1 = PetscMax(P->ti, Q->ti), tj0 = PetscMin(P->tj, Q->tj), tj1 = PetscMax(P->tj, Q->tj);
-  const SelfContactTile     *low = &sc->tiles[pt[0] + tj0 * pt[1] + ti0], *high = &sc->tiles[pt[0] + tj1 * pt[1] + ti1];
+  const PetscInt              piece = P->piece, ring = sc->ring[piece], *pt = &sc->piece_tiles[SELF_CONTACT_PIECE_TILES * piece];
+  const PetscInt              ti0 = PetscMin(P->ti, Q->ti), ti1 = PetscMax(P->ti, Q->ti), tj0 = PetscMin(P->tj, Q->tj), tj1 = PetscMax(P->tj, Q->tj);
+  const SelfContactTile      *low = &sc->tiles[pt[0] + tj0 * pt[1] + ti0], *high = &sc->tiles[pt[0] + tj1 * pt[1] + ti1];
   const SelfContactTileState *u[4];
-  PetscInt                    nu = 0;
+  PetscInt                    nu   = 0;
   PetscReal                   G[6] = {0, 0, 0, 0, 0, 0}, mdx[3] = {0, 0, 0}, eps = 0, dev = 0;
 
   if (!sc->same_piece || PetscMax(high->i1 - low->i0, high->j1 - low->j0) <= ring) return PETSC_TRUE; /* every pair excluded */
@@ -435,7 +435,8 @@ static PetscInt PresentPrimitiveCell(ClothSelfContact sc, const SelfContactTile 
 
 /* The present primitives (nv particles each, prim[], listed for tile t by start/of) of tile t into tp, their ids and
    boxes (swept with the displacements less u, inflated by inflate) in the room at ids, ij and boxes. */
-static void GatherTilePrimitives(ClothSelfContact sc, PetscInt t, PetscInt nv, const PetscInt prim[], const PetscInt start[], const PetscInt of[], PetscReal inflate, const PetscReal u[3], PetscInt ids[], PetscInt ij[], PetscReal boxes[], TilePrimitives *tp)
+static void GatherTilePrimitives(ClothSelfContact sc, PetscInt t, PetscInt nv, const PetscInt prim[], const PetscInt start[], const PetscInt of[], PetscReal inflate, const PetscReal u[3], PetscInt ids[], PetscInt ij[], PetscReal boxes[],
+                                 TilePrimitives *tp)
 {
   const SelfContactTile *tile  = &sc->tiles[t];
   const PetscInt         ncell = (tile->i1 - tile->i0) * (tile->j1 - tile->j0);
@@ -632,7 +633,7 @@ static PetscErrorCode PairsOfTiles(ClothSelfContact sc, const SelfContactTileSta
 
     PetscCall(PairTiles(sc, a->tile, b->tile, u, rho + 2 * skin));
     pair->epoch[0] = a->whole ? sc->snapshots[a->tile]->epoch : -1, pair->epoch[1] = b->whole ? sc->snapshots[b->tile]->epoch : -1;
-    pair->def      = a->def + b->def;
+    pair->def = a->def + b->def;
     if (a->whole && b->whole) RelativePlacement(a, b, pair->M, pair->offset);
   }
   pair->n = sc->npairs - pair->start;
