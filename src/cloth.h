@@ -209,8 +209,9 @@ PetscErrorCode ClothCreateMatrix(Cloth cloth, MatType type, Mat *A);
    couplings. Krylov solvers take it as their operator and A as the matrix to precondition with. Collective. */
 PetscErrorCode ClothCreateImplicitOperator(Cloth cloth, Mat A, Mat *op);
 /* Frees the interaction graph of the whole fabric (ClothLayout's xadj, adjncy become NULL): once the implicit matrix
-   exists and no cloth-cloth contact can grow its pattern, nothing reads it again, and every rank holds it whole (about
-   50 bytes per particle of the sheet; issue 25). ClothCreateMatrix fails after it. Not collective. */
+   exists nothing reads it again (its pattern never changes: contacts' couplings are applied apart,
+   ClothCreateImplicitOperator), and every rank holds it whole (about 50 bytes per particle of the sheet).
+   ClothCreateMatrix fails after it. Not collective. */
 PetscErrorCode ClothReleaseGraph(Cloth cloth);
 /* Zeroes the constrained components of a vector of per-particle 3-vectors (v <- S v). Per particle,
    S = 0 when pinned or stuck, S = I - n n^T when held against a body with unit normal n (see

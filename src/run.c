@@ -524,11 +524,7 @@ PetscErrorCode ClothRunSetUp(ClothRun run)
   if (run->restart[0]) PetscCall(ClothRunRestore(run));
   PetscCall(ClothLogPhaseBegin(CLOTH_SETUP_MATRIX));
   PetscCall(ClothIntegratorSetUp(run->integrator));
-  { /* the matrix exists; only cloth-cloth contacts create it again (their pattern grows), and they read the graph */
-    ClothSelfContact attached;
-    PetscCall(ClothGetSelfContact(run->cloth, &attached));
-    if (!attached) PetscCall(ClothReleaseGraph(run->cloth));
-  }
+  PetscCall(ClothReleaseGraph(run->cloth)); /* the matrix exists, and its pattern never changes (contacts' couplings are applied apart) */
   PetscCall(ClothLogPhaseEnd(CLOTH_SETUP_MATRIX));
   if (run->restart[0]) PetscCall(ClothRunRestoreWarmStart(run));
   PetscCall(ClothRunResolveSteps(run));

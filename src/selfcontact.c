@@ -609,11 +609,11 @@ static PetscErrorCode AddFrictionToImplicitStep(void *ctx, PetscReal h, Vec velo
 /* ------------------------------------------------------------------------------------------------ */
 /* Velocity filter                                                                                  */
 
-/* One Gauss-Seidel sweep over this rank's contacts: each contact whose gap would fall below the
-   target during the step gets the inelastic impulse along its normal that brings it to the target,
-   applied at once to the velocities v (owned) and vr (remote) that the next contacts see. Returns the
-   number of contacts that needed one. */
-static PetscErrorCode ImpulseSweep(ClothSelfContact sc, const BodyNormals *bn, PetscReal h, PetscScalar v[], PetscScalar vr[], PetscInt *active)
+/* One sweep over this rank's contacts at the velocities v (owned) and vr (remote) of the sweep's start: each contact
+   whose gap would fall below the target during the step gets the inelastic impulse along its normal that brings it to
+   the target; its velocity changes go to dv (owned) and dvr (remote) and each particle's count of them to n (nr).
+   Returns the number of contacts that needed one. */
+static PetscErrorCode ImpulseSweep(ClothSelfContact sc, const BodyNormals *bn, PetscReal h, const PetscScalar v[], const PetscScalar vr[], PetscScalar dv[], PetscScalar dvr[], PetscScalar n[], PetscScalar nr[], PetscInt *active)
 {
   const PetscReal target = sc->min_gap * sc->thickness;
 
@@ -622,20 +622,20 @@ static PetscErrorCode ImpulseSweep(ClothSelfContact sc, const BodyNormals *bn, P
   for (PetscInt c = 0; c < sc->ncontacts; c++) {
     const ClothContact *contact = &sc->contacts[c];
     const PetscInt     *loc     = &sc->local[SELF_CONTACT_NP * c];
-    PetscReal           r[3] = {0, 0, 0}, n[3], Sn[SELF_CONTACT_NP][3], S[SELF_CONTACT_NP][9], vn = 0, wsum = 0, impulse;
+    PetscReal           r[3] = {0, 0, 0}, normal[3], Sn[SELF_CONTACT_NP][3], S[SELF_CONTACT_NP][9], vn = 0, wsum = 0, impulse;
 
     if (contact->distance <= 0) continue;
     for (PetscInt j = 0; j < SELF_CONTACT_NP; j++)
       for (PetscInt q = 0; q < 3; q++) r[q] += contact->a[j] * sc->x[3 * loc[j] + q];
-    for (PetscInt q = 0; q < 3; q++) n[q] = r[q] / contact->distance;
+    for (PetscInt q = 0; q < 3; q++) normal[q] = r[q] / contact->distance;
     /* a particle that a body holds (or a pin) does not move along the constrained directions: its
        share of the impulse is filtered, S n, as in the implicit system */
     ContactFilters(sc, bn, c, S);
     for (PetscInt j = 0; j < SELF_CONTACT_NP; j++) {
-      const PetscScalar *vj = At(sc, v, vr, loc[j]);
-      for (PetscInt q = 0; q < 3; q++) Sn[j][q] = S[j][3 * q] * n[0] + S[j][3 * q + 1] * n[1] + S[j][3 * q + 2] * n[2];
-      vn += contact->a[j] * PetscRealPart(n[0] * vj[0] + n[1] * vj[1] + n[2] * vj[2]);
-      wsum += contact->a[j] * contact->a[j] * InverseMass(sc, contact->p[j]) * Dot3(n, Sn[j]);
+      const PetscScalar *vj = AtRead(sc, v, vr, loc[j]);
+      for (PetscInt q = 0; q < 3; q++) Sn[j][q] = S[j][3 * q] * normal[0] + S[j][3 * q + 1] * normal[1] + S[j][3 * q + 2] * normal[2];
+      vn += contact->a[j] * PetscRealPart(normal[0] * vj[0] + normal[1] * vj[1] + normal[2] * vj[2]);
+      wsum += contact->a[j] * contact->a[j] * InverseMass(sc, contact->p[j]) * Dot3(normal, Sn[j]);
     }
     /* the gap after the step, to first order along the normal at the start of the step */
     if (contact->distance + h * vn >= target * (1 - 1e-6) || wsum <= 0) continue;
@@ -643,13 +643,37 @@ static PetscErrorCode ImpulseSweep(ClothSelfContact sc, const BodyNormals *bn, P
     (*active)++;
     for (PetscInt j = 0; j < SELF_CONTACT_NP; j++) {
       const PetscReal scale = contact->a[j] * InverseMass(sc, contact->p[j]) * impulse;
-      PetscScalar    *vj    = At(sc, v, vr, loc[j]);
-      for (PetscInt q = 0; q < 3; q++) vj[q] += scale * Sn[j][q];
+      PetscScalar    *dvj   = At(sc, dv, dvr, loc[j]);
+      for (PetscInt q = 0; q < 3; q++) dvj[q] += scale * Sn[j][q];
+      At(sc, n, nr, loc[j])[0] += 1;
     }
   }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* v += dv / n for every owned particle that had impulses (n of them): a particle pushed by several contacts takes their
+   mean, so that the sweeps converge (Jacobi iteration with averaging). */
+static PetscErrorCode ApplyImpulses(ClothSelfContact sc, Vec velocity)
+{
+  PetscScalar       *v;
+  const PetscScalar *dv, *n;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecGetArray(velocity, &v));
+  PetscCall(VecGetArrayRead(sc->impulse_dv, &dv));
+  PetscCall(VecGetArrayRead(sc->impulse_count, &n));
+  for (PetscInt i = 0; i < sc->layout.nlocal; i++)
+    if (PetscRealPart(n[3 * i]) > 0)
+      for (PetscInt q = 0; q < 3; q++) v[3 * i + q] += dv[3 * i + q] / PetscRealPart(n[3 * i]);
+  PetscCall(VecRestoreArrayRead(sc->impulse_count, &n));
+  PetscCall(VecRestoreArrayRead(sc->impulse_dv, &dv));
+  PetscCall(VecRestoreArray(velocity, &v));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Sweeps of impulses (ImpulseSweep), each from the velocities of its start, the changes of every contact summed and
+   averaged per particle before they apply: every contact sees the same velocities whatever the partition, so the result
+   does not depend on the number of ranks (a Gauss-Seidel sweep of each rank's contacts did, when impulses acted). */
 PetscErrorCode ClothSelfContactFilterVelocity(ClothSelfContact sc, PetscReal h, Vec velocity)
 {
   PetscInt    it, active = 0, total = 0;
@@ -658,31 +682,46 @@ PetscErrorCode ClothSelfContactFilterVelocity(ClothSelfContact sc, PetscReal h, 
   PetscFunctionBeginUser;
   PetscCheck(sc->remote_scatter, sc->comm, PETSC_ERR_ORDER, "Call ClothSelfContactUpdate before ClothSelfContactFilterVelocity");
   PetscCall(PetscLogEventBegin(ClothLog.self_collision, 0, 0, 0, 0));
-  /* the contacts the step will meet: those within the thickness plus their travel at the new velocities */
+  /* the contacts the step will meet: those that come within the thickness at the new velocities */
   PetscCall(SelfContactSearch(sc, sc->thickness, velocity, h));
   if (!sc->any_candidates) { /* no contact on any rank */
     PetscCall(PetscLogEventEnd(ClothLog.self_collision, 0, 0, 0, 0));
     PetscFunctionReturn(PETSC_SUCCESS);
   }
   PetscCall(PetscLogEventBegin(ClothLog.self_impulses, 0, 0, 0, 0));
+  if (!sc->impulse_dv) {
+    PetscCall(VecDuplicate(sc->position, &sc->impulse_dv));
+    PetscCall(VecDuplicate(sc->position, &sc->impulse_count));
+  }
   PetscCall(BodyNormalsGet(sc, &bn));
   for (it = 0; it < sc->impulse_iterations; it++) {
-    PetscScalar *v, *vr;
+    const PetscScalar *v, *vr;
+    PetscScalar       *dv, *dvr, *n, *nr;
 
-    /* remote particles: their velocity changes go back to their owners (fremote = new - old); the search has just
-       refreshed their velocities */
-    if (it > 0) PetscCall(SelfContactRefreshRemote(sc, velocity, sc->vremote));
-    PetscCall(VecCopy(sc->vremote, sc->fremote));
-    PetscCall(VecGetArray(velocity, &v));
-    PetscCall(VecGetArray(sc->vremote, &vr));
-    PetscCall(ImpulseSweep(sc, &bn, h, v, vr, &active));
-    PetscCall(VecRestoreArray(sc->vremote, &vr));
-    PetscCall(VecRestoreArray(velocity, &v));
-    PetscCall(VecAYPX(sc->fremote, -1.0, sc->vremote));
+    if (it > 0) PetscCall(SelfContactRefreshRemote(sc, velocity, sc->vremote)); /* the search has refreshed them at first */
+    PetscCall(VecZeroEntries(sc->impulse_dv));
+    PetscCall(VecZeroEntries(sc->impulse_count));
+    PetscCall(VecZeroEntries(sc->fremote));
+    PetscCall(VecZeroEntries(sc->kvremote));
+    PetscCall(VecGetArrayRead(velocity, &v));
+    PetscCall(VecGetArrayRead(sc->vremote, &vr));
+    PetscCall(VecGetArray(sc->impulse_dv, &dv));
+    PetscCall(VecGetArray(sc->fremote, &dvr));
+    PetscCall(VecGetArray(sc->impulse_count, &n));
+    PetscCall(VecGetArray(sc->kvremote, &nr));
+    PetscCall(ImpulseSweep(sc, &bn, h, v, vr, dv, dvr, n, nr, &active));
+    PetscCall(VecRestoreArray(sc->kvremote, &nr));
+    PetscCall(VecRestoreArray(sc->impulse_count, &n));
+    PetscCall(VecRestoreArray(sc->fremote, &dvr));
+    PetscCall(VecRestoreArray(sc->impulse_dv, &dv));
+    PetscCall(VecRestoreArrayRead(sc->vremote, &vr));
+    PetscCall(VecRestoreArrayRead(velocity, &v));
     PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &active, 1, MPIU_INT, MPI_SUM, sc->comm));
     if (!active) break;
     total += active;
-    PetscCall(SelfContactSumRemoteInto(sc, sc->fremote, velocity));
+    PetscCall(SelfContactSumRemoteInto(sc, sc->fremote, sc->impulse_dv));
+    PetscCall(SelfContactSumRemoteInto(sc, sc->kvremote, sc->impulse_count));
+    PetscCall(ApplyImpulses(sc, velocity));
   }
   PetscCall(BodyNormalsRestore(sc, &bn));
   if (active) PetscCall(PetscInfo(NULL, "Self-collision impulses: %" PetscInt_FMT " contacts still closing after %" PetscInt_FMT " iterations\n", active, it));
@@ -852,11 +891,18 @@ PetscErrorCode ClothSelfContactFind(ClothSelfContact sc, PetscReal radius)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode ClothSelfContactGetCandidateList(ClothSelfContact sc, PetscReal *skin, PetscInt *builds)
+PetscErrorCode ClothSelfContactGetStatistics(ClothSelfContact sc, ClothSelfContactStatistics *stats)
 {
+  PetscInt64 local[5] = {sc->tile_pairs, sc->tile_pairs_apart, sc->tile_pairs_kept, sc->primitive_pairs_total, sc->candidates_built}, sum[5];
+
   PetscFunctionBeginUser;
-  if (skin) *skin = sc->skin;
-  if (builds) *builds = sc->builds;
+  PetscCallMPI(MPI_Allreduce(local, sum, 5, MPIU_INT64, MPI_SUM, sc->comm));
+  stats->builds           = sc->builds;
+  stats->tile_pairs       = sum[0];
+  stats->tile_pairs_apart = sum[1];
+  stats->tile_pairs_kept  = sum[2];
+  stats->primitive_pairs  = sum[3];
+  stats->candidates       = sum[4];
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -891,7 +937,7 @@ PetscErrorCode ClothSelfContactGetContactField(ClothSelfContact sc, Vec field, P
 
 PetscErrorCode ClothSelfContactView(ClothSelfContact sc, PetscViewer viewer)
 {
-  PetscInt64 local[9] = {sc->contacts_found, sc->impulses, sc->nremote, sc->candidates_built, sc->edge_contacts_found, sc->tile_pairs, sc->tile_pairs_apart, sc->tile_pairs_kept, sc->primitive_pairs_total}, sum[9];
+  PetscInt64 local[9] = {sc->contacts_found, sc->rank == 0 ? sc->impulses : 0, sc->nremote, sc->candidates_built, sc->edge_contacts_found, sc->tile_pairs, sc->tile_pairs_apart, sc->tile_pairs_kept, sc->primitive_pairs_total}, sum[9];
   PetscInt   cmax;
 
   PetscFunctionBeginUser;
@@ -956,6 +1002,8 @@ PetscErrorCode ClothSelfContactDestroy(ClothSelfContact *sc)
   PetscCall(VecDestroy(&s->contact_press));
   PetscCall(VecDestroy(&s->support));
   PetscCall(VecDestroy(&s->wremote));
+  PetscCall(VecDestroy(&s->impulse_dv));
+  PetscCall(VecDestroy(&s->impulse_count));
   PetscCall(VecDestroy(&s->xcoupling));
   PetscCall(VecDestroy(&s->ycoupling));
   PetscCall(VecScatterDestroy(&s->coupling_scatter));

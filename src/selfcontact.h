@@ -65,9 +65,15 @@ PetscErrorCode ClothSelfContactSetExclusion(ClothSelfContact sc, ClothSelfContac
 PetscErrorCode ClothSelfContactUpdate(ClothSelfContact sc, PetscReal h);
 /* The same search within radius (no travel) and without touching the matrix pattern; for tests. */
 PetscErrorCode ClothSelfContactFind(ClothSelfContact sc, PetscReal radius);
-/* The candidate list's skin (fraction of the thickness that particles may move before it is built again) and how
-   often it has been built. Not collective. */
-PetscErrorCode ClothSelfContactGetCandidateList(ClothSelfContact sc, PetscReal *skin, PetscInt *builds);
+/* What the searches did since set-up, summed over ranks: how often the candidates were found anew, and over those
+   searches the pairs of tiles near each other, those proved apart and those whose pairs of primitives were kept from
+   the last step, the pairs of primitives given to the narrow phase and the candidates it kept. */
+typedef struct {
+  PetscInt   builds;
+  PetscInt64 tile_pairs, tile_pairs_apart, tile_pairs_kept, primitive_pairs, candidates;
+} ClothSelfContactStatistics;
+/* Collective. */
+PetscErrorCode ClothSelfContactGetStatistics(ClothSelfContact sc, ClothSelfContactStatistics *stats);
 /* This rank's contacts from the last search (borrowed, natural numbering). Not collective. */
 PetscErrorCode ClothSelfContactGetContacts(ClothSelfContact sc, PetscInt *n, const ClothContact **contacts);
 /* For output: per particle, in natural order (field: one entry per particle, a Vec like
@@ -77,9 +83,10 @@ PetscErrorCode ClothSelfContactGetContacts(ClothSelfContact sc, PetscInt *n, con
    search is the velocity filter's (or, with the explicit integrator, ClothSelfContactUpdate's) of the
    last (sub-)step: pairs within the thickness plus their relative travel over it. Collective. */
 PetscErrorCode ClothSelfContactGetContactField(ClothSelfContact sc, Vec field, PetscInt *ncontacts, PetscInt *nparticles);
-/* Every contact within radius over the whole model at natural-order positions x (3 N), by testing all
-   pairs of primitives: the reference for the cell-grid search. Not collective; free with PetscFree. */
-PetscErrorCode ClothSelfContactFindBruteForce(ClothSelfContact sc, const PetscReal x[], PetscReal radius, PetscInt *n, ClothContact **contacts);
+/* Every contact that comes within radius during a step of displacements dx (3 N; NULL: none) over the whole model at
+   natural-order positions x (3 N), by testing all pairs of primitives: the reference for the search. Not collective;
+   free with PetscFree. */
+PetscErrorCode ClothSelfContactFindBruteForce(ClothSelfContact sc, const PetscReal x[], const PetscReal dx[], PetscReal radius, PetscInt *n, ClothContact **contacts);
 /* Impulses on the velocity (after its update, before the positions move by h v): searches again at
    these velocities, then Gauss-Seidel sweeps of inelastic impulses along the contact normals (filtered
    by pins and body contacts, ClothGetContactNormals) until no contact's gap, to first order, falls

@@ -130,6 +130,7 @@ struct _n_ClothSelfContact {
   SelfContactCoupling *couplings;
   PetscBool            any_coupling;         /* on some rank (collective) */
   Vec                  xcoupling, ycoupling; /* the couplings' remote particles' entries of a product */
+  Vec                  impulse_dv, impulse_count; /* a sweep of impulses: the owned particles' velocity changes and their number */
   VecScatter           coupling_scatter;
   PetscInt             ncoupling_remote, *coupling_remote;
   PetscInt             searches, impulses;                  /* statistics for the view (summed over ranks where relevant) */

@@ -835,7 +835,7 @@ PetscErrorCode SelfContactSearch(ClothSelfContact sc, PetscReal radius, Vec velo
 /* ------------------------------------------------------------------------------------------------ */
 /* Brute force (the reference for tests)                                                            */
 
-PetscErrorCode ClothSelfContactFindBruteForce(ClothSelfContact sc, const PetscReal x[], PetscReal radius, PetscInt *n, ClothContact **contacts)
+PetscErrorCode ClothSelfContactFindBruteForce(ClothSelfContact sc, const PetscReal x[], const PetscReal dx[], PetscReal radius, PetscInt *n, ClothContact **contacts)
 {
   const SelfContactPositions all        = {x, NULL};
   const PetscInt             nparticles = sc->layout.nglobal;
@@ -849,7 +849,7 @@ PetscErrorCode ClothSelfContactFindBruteForce(ClothSelfContact sc, const PetscRe
     for (PetscInt a = 0; a < na; a++)
       for (PetscInt b = pass == 0 ? 0 : a + 1; b < nb; b++) {
         ClothContact     contact;
-        const PetscReal *xs[SELF_CONTACT_NP];
+        const PetscReal *xs[SELF_CONTACT_NP], *ds[SELF_CONTACT_NP];
         PetscBool        excluded, hit;
 
         if (pass == 0) {
@@ -862,12 +862,12 @@ PetscErrorCode ClothSelfContactFindBruteForce(ClothSelfContact sc, const PetscRe
           PetscCall(Excluded(sc, contact.p, 2, &contact.p[2], 2, &excluded));
         }
         if (excluded) continue;
-        for (PetscInt v = 0; v < SELF_CONTACT_NP; v++) xs[v] = &x[3 * contact.p[v]];
+        for (PetscInt v = 0; v < SELF_CONTACT_NP; v++) xs[v] = &x[3 * contact.p[v]], ds[v] = dx ? &dx[3 * contact.p[v]] : NULL;
         if (pass == 0) {
-          TestPointTriangle(xs, NULL, radius, &contact, &hit);
+          TestPointTriangle(xs, dx ? ds : NULL, radius, &contact, &hit);
           if (hit) hit = NearestOnFabric(sc, &all, a, xs[0], b);
         } else {
-          TestEdgeEdge(xs, NULL, radius, &contact, &hit);
+          TestEdgeEdge(xs, dx ? ds : NULL, radius, &contact, &hit);
           if (hit) hit = contact.scale > 0 ? PETSC_TRUE : PETSC_FALSE;
         }
         if (!hit) continue;

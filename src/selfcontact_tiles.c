@@ -216,16 +216,54 @@ static void Mult3(const PetscReal A[9], const PetscReal x[3], PetscBool transpos
   for (PetscInt r = 0; r < 3; r++) y[r] = transpose ? A[r] * x[0] + A[3 + r] * x[1] + A[6 + r] * x[2] : A[3 * r] * x[0] + A[3 * r + 1] * x[1] + A[3 * r + 2] * x[2];
 }
 
-/* The rigid motion (R, c, ce) of a whole tile since its snapshot and its deformation, its rectangle's particles
-   g[0..n); infinite without a snapshot. */
+/* The rotation nearest to the 3 x 3 matrix H (row-major; its orthogonal polar factor), by Newton's iteration
+   X <- (X + X^-T) / 2; false when H is (nearly) singular or a reflection. */
+static PetscBool NearestRotation(const PetscReal H[9], PetscReal R[9])
+{
+  PetscReal X[9], norm = 0;
+
+  for (PetscInt k = 0; k < 9; k++) norm += H[k] * H[k];
+  if (!(norm > 0)) return PETSC_FALSE;
+  for (PetscInt k = 0; k < 9; k++) X[k] = H[k] / PetscSqrtReal(norm / 3);
+  for (PetscInt it = 0; it < 30; it++) {
+    const PetscReal det = X[0] * (X[4] * X[8] - X[5] * X[7]) - X[1] * (X[3] * X[8] - X[5] * X[6]) + X[2] * (X[3] * X[7] - X[4] * X[6]);
+    PetscReal       C[9], change = 0; /* C = cofactors of X: X^-T = C / det */
+
+    if (!(det > 1e-12)) return PETSC_FALSE;
+    C[0] = X[4] * X[8] - X[5] * X[7], C[1] = X[5] * X[6] - X[3] * X[8], C[2] = X[3] * X[7] - X[4] * X[6];
+    C[3] = X[2] * X[7] - X[1] * X[8], C[4] = X[0] * X[8] - X[2] * X[6], C[5] = X[1] * X[6] - X[0] * X[7];
+    C[6] = X[1] * X[5] - X[2] * X[4], C[7] = X[2] * X[3] - X[0] * X[5], C[8] = X[0] * X[4] - X[1] * X[3];
+    for (PetscInt k = 0; k < 9; k++) {
+      const PetscReal next = 0.5 * (X[k] + C[k] / det);
+      change += PetscSqr(next - X[k]);
+      X[k] = next;
+    }
+    if (change < 1e-28) break;
+  }
+  for (PetscInt k = 0; k < 9; k++) R[k] = X[k];
+  return PETSC_TRUE;
+}
+
+/* The rigid motion (R, c, ce) of a whole tile since its snapshot, the rotation that fits its rectangle's positions
+   g[0..n) best (least squares, Kabsch: the polar factor of sum (x - c) y^T, with the normals' product added so that a
+   flat tile fixes it too), and its deformation def, the largest distance of a position from where that motion takes
+   its snapshot position; infinite without a snapshot or a fit. */
 static void TileMotion(ClothSelfContact sc, const SelfContactSnapshot snap, const PetscInt g[], PetscInt n, SelfContactTileState *s)
 {
-  PetscReal F[9];
+  PetscReal F[9], H[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0}, weight = 0;
 
   s->def = PETSC_INFINITY;
   if (!snap) return;
+  for (PetscInt k = 0; k < n; k++) {
+    const PetscReal *x = &sc->x[3 * sc->contact_index[g[k]]], *y = &snap->rel[6 * k];
+    for (PetscInt r = 0; r < 3; r++)
+      for (PetscInt c = 0; c < 3; c++) H[3 * r + c] += (x[r] - s->c[r]) * y[c];
+    weight += Dot3(y, y);
+  }
   TileFrame(s->G, F);
-  MultTransposed3(F, snap->F0, s->R); /* R = F^T F0: takes the snapshot's frame to the current one */
+  for (PetscInt r = 0; r < 3; r++)
+    for (PetscInt c = 0; c < 3; c++) H[3 * r + c] += weight / n * F[6 + r] * snap->F0[6 + c];
+  if (!NearestRotation(H, s->R)) return;
   s->def = 0;
   for (PetscInt k = 0; k < n; k++) {
     const PetscReal *x = &sc->x[3 * sc->contact_index[g[k]]], *d = &sc->dx[3 * sc->contact_index[g[k]]];

@@ -1,12 +1,14 @@
-/* The cell-grid search of ClothSelfContact against brute force over every pair of primitives: the
-   same point-triangle and edge-edge contacts, with the same distances, on any number of ranks.
+/* The search of ClothSelfContact against brute force over every pair of primitives: the same point-triangle and
+   edge-edge contacts, with the same distances, on any number of ranks.
 
    The scene's pieces are folded accordion-wise into -panels panels stacked -gap x thickness apart
    (the pieces one above the other), with a deterministic jitter of -jitter x thickness per
    coordinate, so that layers, fold lines and the two pieces all come within the thickness. Checks
    at least -min_contacts contacts of each kind. Prints the counts (independent of the rank count).
-   With -check_jacobian, also the repulsion's stiffness in the implicit system against central
-   differences of the forces (-jacobian_eps, -jacobian_rtol). */
+   With -check_motion, also the search as the layers move (CheckMotion): as one at a high speed, rigidly, and deformed
+   a little and a lot, against brute force, with the pairs of primitives the broad phase keeps over steps. With
+   -check_jacobian, also the repulsion's stiffness in the implicit system against central differences of the forces
+   (-jacobian_eps, -jacobian_rtol). */
 #include <petscvec.h>
 #include "scene.h"
 #include "cloth.h"
@@ -50,9 +52,10 @@ static PetscErrorCode CrumpledPositions(Scene scene, ClothModel model, const Cru
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-static PetscErrorCode SetState(Cloth cloth, const PetscReal x[])
+/* Natural-order values (3 per particle) into a state vector of the cloth. */
+static PetscErrorCode SetStateVec(Cloth cloth, const PetscReal values[], Vec state)
 {
-  Vec          natural, position;
+  Vec          natural;
   PetscScalar *a;
   PetscInt     lo, hi;
 
@@ -60,11 +63,23 @@ static PetscErrorCode SetState(Cloth cloth, const PetscReal x[])
   PetscCall(ClothCreateNaturalVec(cloth, &natural));
   PetscCall(VecGetOwnershipRange(natural, &lo, &hi));
   PetscCall(VecGetArray(natural, &a));
-  for (PetscInt k = lo; k < hi; k++) a[k - lo] = x[k];
+  for (PetscInt k = lo; k < hi; k++) a[k - lo] = values[k];
   PetscCall(VecRestoreArray(natural, &a));
-  PetscCall(ClothGetState(cloth, &position, NULL));
-  PetscCall(ClothScatterToNatural(cloth, position, natural, SCATTER_REVERSE));
+  PetscCall(ClothScatterToNatural(cloth, state, natural, SCATTER_REVERSE));
   PetscCall(VecDestroy(&natural));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Positions x and velocities v (NULL: at rest), natural order. */
+static PetscErrorCode SetState(Cloth cloth, const PetscReal x[], const PetscReal v[])
+{
+  Vec position, velocity;
+
+  PetscFunctionBeginUser;
+  PetscCall(ClothGetState(cloth, &position, &velocity));
+  PetscCall(SetStateVec(cloth, x, position));
+  if (v) PetscCall(SetStateVec(cloth, v, velocity));
+  else PetscCall(VecZeroEntries(velocity));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -105,73 +120,125 @@ static PetscErrorCode CountKinds(PetscInt n, const ClothContact c[], PetscInt co
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* The search at natural-order positions x (set as the cloth's state) against brute force: the same contacts, with
-   the same distances (1e-14 m), at least min_contacts of each kind. Returns every rank's contacts (sorted). Collective. */
-static PetscErrorCode CompareWithBruteForce(Cloth cloth, ClothSelfContact sc, const PetscReal x[], PetscReal radius, PetscInt min_contacts, PetscInt *nall, ClothContact **all)
+/* The search at natural-order positions x (set as the cloth's state) against brute force: the same contacts, with the
+   same distances (1e-14 m), at least min_contacts of each kind. With velocities v, the search of a step of h
+   (ClothSelfContactUpdate: contacts that come within the thickness, radius) against brute force with displacements
+   h v; without, at rest within radius (ClothSelfContactFind). Returns every rank's contacts (sorted). Collective. */
+static PetscErrorCode CompareWithBruteForce(Cloth cloth, ClothSelfContact sc, const PetscReal x[], const PetscReal v[], PetscReal h, PetscReal radius, PetscInt min_contacts, PetscInt *nall, ClothContact **all)
 {
-  PetscInt            n, nbrute, kinds[2];
+  PetscInt            n, nbrute, kinds[2], np;
   const ClothContact *found;
   ClothContact       *brute;
+  PetscReal          *dx = NULL;
 
   PetscFunctionBeginUser;
-  PetscCall(SetState(cloth, x));
-  PetscCall(ClothSelfContactFind(sc, radius));
+  PetscCall(SetState(cloth, x, v));
+  if (v) {
+    PetscCall(ClothGetSizes(cloth, NULL, &np));
+    PetscCall(PetscMalloc1(3 * np, &dx));
+    for (PetscInt k = 0; k < 3 * np; k++) dx[k] = h * v[k];
+    PetscCall(ClothSelfContactUpdate(sc, h));
+  } else PetscCall(ClothSelfContactFind(sc, radius));
   PetscCall(ClothSelfContactGetContacts(sc, &n, &found));
   PetscCall(GatherContacts(PETSC_COMM_WORLD, n, found, nall, all));
-  PetscCall(ClothSelfContactFindBruteForce(sc, x, radius, &nbrute, &brute));
+  PetscCall(ClothSelfContactFindBruteForce(sc, x, dx, radius, &nbrute, &brute));
+  PetscCall(PetscFree(dx));
   qsort(brute, (size_t)nbrute, sizeof(ClothContact), CompareContacts);
   PetscCall(CountKinds(nbrute, brute, kinds));
   PetscCall(PetscPrintf(PETSC_COMM_WORLD, "brute force: %" PetscInt_FMT " point-triangle, %" PetscInt_FMT " edge-edge contacts within %g m\n", kinds[0], kinds[1], (double)radius));
   PetscCheck(kinds[0] >= min_contacts && kinds[1] >= min_contacts, PETSC_COMM_WORLD, PETSC_ERR_PLIB, "the crumpled configuration has too few contacts to test anything (%" PetscInt_FMT ", %" PetscInt_FMT ")", kinds[0], kinds[1]);
   PetscCall(CountKinds(*nall, *all, kinds));
-  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "cell grid:   %" PetscInt_FMT " point-triangle, %" PetscInt_FMT " edge-edge contacts\n", kinds[0], kinds[1]));
-  PetscCheck(*nall == nbrute, PETSC_COMM_WORLD, PETSC_ERR_PLIB, "the cell-grid search found %" PetscInt_FMT " contacts, brute force %" PetscInt_FMT, *nall, nbrute);
+  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "search:      %" PetscInt_FMT " point-triangle, %" PetscInt_FMT " edge-edge contacts\n", kinds[0], kinds[1]));
+  PetscCheck(*nall == nbrute, PETSC_COMM_WORLD, PETSC_ERR_PLIB, "the search found %" PetscInt_FMT " contacts, brute force %" PetscInt_FMT, *nall, nbrute);
   for (PetscInt k = 0; k < *nall; k++) {
     const ClothContact *a = &(*all)[k], *b = &brute[k];
     PetscCheck(CompareContacts(a, b) == 0, PETSC_COMM_WORLD, PETSC_ERR_PLIB,
-               "contact %" PetscInt_FMT " differs: grid (%d: %" PetscInt_FMT " %" PetscInt_FMT " %" PetscInt_FMT " %" PetscInt_FMT "), brute force (%d: %" PetscInt_FMT " %" PetscInt_FMT " %" PetscInt_FMT " %" PetscInt_FMT ")", k, (int)a->kind,
+               "contact %" PetscInt_FMT " differs: search (%d: %" PetscInt_FMT " %" PetscInt_FMT " %" PetscInt_FMT " %" PetscInt_FMT "), brute force (%d: %" PetscInt_FMT " %" PetscInt_FMT " %" PetscInt_FMT " %" PetscInt_FMT ")", k, (int)a->kind,
                a->p[0], a->p[1], a->p[2], a->p[3], (int)b->kind, b->p[0], b->p[1], b->p[2], b->p[3]);
-    PetscCheck(PetscAbsReal(a->distance - b->distance) <= 1e-14, PETSC_COMM_WORLD, PETSC_ERR_PLIB, "contact %" PetscInt_FMT ": distance %.17g (grid) and %.17g (brute force)", k, (double)a->distance, (double)b->distance);
+    PetscCheck(PetscAbsReal(a->distance - b->distance) <= 1e-14, PETSC_COMM_WORLD, PETSC_ERR_PLIB, "contact %" PetscInt_FMT ": distance %.17g (search) and %.17g (brute force)", k, (double)a->distance, (double)b->distance);
   }
   PetscCall(PetscFree(brute));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* The candidate list's reuse: every particle moves by factor x skin x radius in its own direction (a deterministic
-   unit vector), so pairs close in by up to twice that. Below the skin (factor 0.95) the list must be reused (no build)
-   and still give exactly the brute-force contacts, new ones included; beyond it (1.5) it must be built again, with
-   the same check. Collective. */
-static PetscErrorCode CheckReuse(Cloth cloth, ClothSelfContact sc, ClothModel model, const PetscReal x[], PetscReal radius, PetscInt nstart, const ClothContact start[])
+/* The number of contacts of all[0..n) that start[0..nstart) lacks. */
+static PetscInt NewContacts(PetscInt n, const ClothContact all[], PetscInt nstart, const ClothContact start[])
 {
-  const PetscReal factors[2] = {0.95, 1.5};
-  PetscReal       skin, *y;
-  PetscInt        builds, rebuilt;
+  PetscInt fresh = 0;
+
+  for (PetscInt k = 0; k < n; k++)
+    if (!bsearch(&all[k], start, (size_t)nstart, sizeof(ClothContact), CompareContacts)) fresh++;
+  return fresh;
+}
+
+/* One search of CheckMotion against brute force: the contacts, and of this search (since the statistics before) the
+   pairs of primitives of the broad phase and the share of its pairs of tiles that kept theirs. */
+static PetscErrorCode CompareMoved(Cloth cloth, ClothSelfContact sc, const char *what, const PetscReal x[], const PetscReal v[], PetscReal h, PetscReal radius, PetscInt nstart, const ClothContact start[], PetscInt64 *pairs, PetscReal *kept, PetscInt *fresh)
+{
+  ClothSelfContactStatistics before, after;
+  PetscInt                   nall;
+  ClothContact              *all;
 
   PetscFunctionBeginUser;
-  PetscCall(ClothSelfContactGetCandidateList(sc, &skin, NULL));
-  PetscCheck(skin > 0, PETSC_COMM_WORLD, PETSC_ERR_USER_INPUT, "-check_reuse needs a positive -self_collision_skin");
-  PetscCall(PetscMalloc1(3 * model->nparticles, &y));
-  for (PetscInt f = 0; f < 2; f++) {
-    PetscInt      nall, fresh = 0;
-    ClothContact *all;
+  PetscCall(ClothSelfContactGetStatistics(sc, &before));
+  PetscCall(CompareWithBruteForce(cloth, sc, x, v, h, radius, 1, &nall, &all));
+  PetscCall(ClothSelfContactGetStatistics(sc, &after));
+  *pairs = after.primitive_pairs - before.primitive_pairs;
+  *kept  = (PetscReal)(after.tile_pairs_kept - before.tile_pairs_kept) / (PetscReal)PetscMax(1, (after.tile_pairs - before.tile_pairs) - (after.tile_pairs_apart - before.tile_pairs_apart));
+  *fresh = NewContacts(nall, all, nstart, start);
+  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%s: %" PetscInt_FMT " contacts, %" PetscInt_FMT " of them new; %" PetscInt64_FMT " pairs of primitives, %.1f %% of the pairs of tiles kept theirs\n", what, nall, *fresh, *pairs, (double)(100 * *kept)));
+  PetscCall(PetscFree(all));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
 
-    for (PetscInt g = 0; g < model->nparticles; g++) {
-      PetscReal d[3], norm;
-      for (PetscInt c = 0; c < 3; c++) d[c] = Jitter(g + 7 * model->nparticles, c);
-      norm = PetscSqrtReal(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-      for (PetscInt c = 0; c < 3; c++) y[3 * g + c] = x[3 * g + c] + factors[f] * skin * radius * d[c] / norm;
-    }
-    PetscCall(ClothSelfContactGetCandidateList(sc, NULL, &builds));
-    PetscCall(CompareWithBruteForce(cloth, sc, y, radius, 1, &nall, &all));
-    PetscCall(ClothSelfContactGetCandidateList(sc, NULL, &rebuilt));
-    for (PetscInt k = 0; k < nall; k++)
-      if (!bsearch(&all[k], start, (size_t)nstart, sizeof(ClothContact), CompareContacts)) fresh++;
-    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "every particle moved %.2f x skin: %" PetscInt_FMT " contacts, %" PetscInt_FMT " of them new, candidate list %s\n", (double)factors[f], nall, fresh, rebuilt > builds ? "built again" : "reused"));
-    PetscCheck(fresh > 0, PETSC_COMM_WORLD, PETSC_ERR_PLIB, "no new contact after the move: the check would test nothing");
-    PetscCheck((rebuilt > builds) == (factors[f] > 1), PETSC_COMM_WORLD, PETSC_ERR_PLIB, "the candidate list was %s after a move of %.2f x skin", rebuilt > builds ? "built again" : "reused", (double)factors[f]);
-    PetscCall(PetscFree(all));
+/* The search as the layers move, each against brute force (exactly the same contacts), after the search at rest
+   (start, with pairs0 pairs of primitives):
+   - the whole fabric at 10 m/s, a step of 1/240 s (4 cm): the same contacts and the same pairs of primitives as at
+     rest, since only relative motion counts;
+   - moved rigidly (turned 30 degrees about an oblique axis, shifted by 25 thicknesses): every pair of whole tiles keeps
+     its pairs of primitives (-min_kept: on 2 ranks those on both ranks' borders do not); the contacts are the same but
+     where rounding passes a particle's nearest point to the other of two equal triangles;
+   - the upper piece moved as one 1.5 skin closer to the lower: new contacts, every pair of whole tiles keeping its
+     pairs (their relative motion is within the 2 skins the pairs allow: found without the skin, the pairs miss some
+     of the new contacts and the check fails);
+   - every particle moved 1.5 skin in its own direction: no tile keeps its pairs. Collective. */
+static PetscErrorCode CheckMotion(Cloth cloth, ClothSelfContact sc, ClothModel model, const PetscReal x[], PetscReal radius, PetscReal skin, PetscInt nstart, const ClothContact start[], PetscInt64 pairs0, PetscReal min_kept)
+{
+  const PetscInt  np = model->nparticles;
+  const PetscReal h = 1.0 / 240, angle = PETSC_PI / 6, axis[3] = {0.2672612419124244, 0.5345224838248488, 0.8017837257372732};
+  PetscReal      *y, *v, *z, R[9], kept;
+  PetscInt64      pairs;
+  PetscInt        fresh;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMalloc3(3 * np, &y, 3 * np, &v, 3 * np, &z));
+  for (PetscInt g = 0; g < np; g++) v[3 * g] = 3, v[3 * g + 1] = -10, v[3 * g + 2] = 1;
+  PetscCall(CompareMoved(cloth, sc, "all at 10 m/s", x, v, h, radius, nstart, start, &pairs, &kept, &fresh));
+  PetscCheck(fresh == 0 && pairs == pairs0, PETSC_COMM_WORLD, PETSC_ERR_PLIB, "moving as one changed the search: %" PetscInt_FMT " new contacts, %" PetscInt64_FMT " pairs of primitives against %" PetscInt64_FMT " at rest", fresh, pairs, pairs0);
+  /* Rodrigues: R = cos I + sin [axis]x + (1 - cos) axis axis^T */
+  for (PetscInt r = 0; r < 3; r++)
+    for (PetscInt c = 0; c < 3; c++) R[3 * r + c] = (r == c ? PetscCosReal(angle) : 0) + (1 - PetscCosReal(angle)) * axis[r] * axis[c];
+  R[1] -= PetscSinReal(angle) * axis[2], R[2] += PetscSinReal(angle) * axis[1], R[3] += PetscSinReal(angle) * axis[2];
+  R[5] -= PetscSinReal(angle) * axis[0], R[6] -= PetscSinReal(angle) * axis[1], R[7] += PetscSinReal(angle) * axis[0];
+  for (PetscInt g = 0; g < np; g++)
+    for (PetscInt r = 0; r < 3; r++) y[3 * g + r] = R[3 * r] * x[3 * g] + R[3 * r + 1] * x[3 * g + 1] + R[3 * r + 2] * x[3 * g + 2] + 25 * radius;
+  PetscCall(CompareMoved(cloth, sc, "moved rigidly", y, NULL, h, radius, nstart, start, &pairs, &kept, &fresh));
+  PetscCheck(kept >= min_kept, PETSC_COMM_WORLD, PETSC_ERR_PLIB, "moved rigidly: %.1f %% of the pairs of tiles kept theirs (at least %.1f %%)", (double)(100 * kept), (double)(100 * min_kept));
+  /* the upper piece (moved as one) closer to the lower one by 1.5 skin: within the 2 skins that kept pairs allow */
+  for (PetscInt g = 0; g < np; g++)
+    for (PetscInt c = 0; c < 3; c++) z[3 * g + c] = y[3 * g + c] - (g >= model->piece_offset[1] ? 1.5 * skin * radius * R[3 * c + 1] : 0);
+  PetscCall(CompareMoved(cloth, sc, "upper piece 1.5 skin closer", z, NULL, h, radius, nstart, start, &pairs, &kept, &fresh));
+  PetscCheck(fresh > 0 && kept >= min_kept, PETSC_COMM_WORLD, PETSC_ERR_PLIB, "upper piece 1.5 skin closer: %" PetscInt_FMT " new contacts, %.1f %% of the pairs of tiles kept theirs (at least %.1f %%)", fresh, (double)(100 * kept), (double)(100 * min_kept));
+  /* every particle by 1.5 skin in its own direction: no tile keeps its pairs */
+  for (PetscInt g = 0; g < np; g++) {
+    PetscReal d[3], norm;
+    for (PetscInt c = 0; c < 3; c++) d[c] = Jitter(g + 7 * np, c);
+    norm = PetscSqrtReal(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    for (PetscInt c = 0; c < 3; c++) z[3 * g + c] = y[3 * g + c] + 1.5 * skin * radius * d[c] / norm;
   }
-  PetscCall(PetscFree(y));
+  PetscCall(CompareMoved(cloth, sc, "deformed by 1.5 skin", z, NULL, h, radius, nstart, start, &pairs, &kept, &fresh));
+  PetscCheck(fresh > 0 && kept == 0, PETSC_COMM_WORLD, PETSC_ERR_PLIB, "deformed by 1.5 skin: %" PetscInt_FMT " new contacts, %.1f %% of the pairs of tiles kept theirs (none expected)", fresh, (double)(100 * kept));
+  PetscCall(PetscFree3(y, v, z));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -272,12 +339,15 @@ int main(int argc, char **argv)
   PetscReal       *x;
   PetscInt         nall = 0, min_contacts = 100;
   ClothContact    *all;
-  PetscBool        flg, check_jacobian = PETSC_FALSE, check_reuse = PETSC_FALSE;
-  PetscReal        eps = 1e-7, rtol = 1e-5;
+  PetscBool        flg, check_jacobian = PETSC_FALSE, check_motion = PETSC_FALSE;
+  PetscReal        eps = 1e-7, rtol = 1e-5, min_kept = 0.99, skin = 0.5;
+  ClothSelfContactStatistics rest;
 
   PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
   PetscCall(PetscOptionsGetBool(NULL, NULL, "-check_jacobian", &check_jacobian, NULL));
-  PetscCall(PetscOptionsGetBool(NULL, NULL, "-check_reuse", &check_reuse, NULL));
+  PetscCall(PetscOptionsGetBool(NULL, NULL, "-check_motion", &check_motion, NULL));
+  PetscCall(PetscOptionsGetReal(NULL, NULL, "-min_kept", &min_kept, NULL));
+  PetscCall(PetscOptionsGetReal(NULL, NULL, "-self_collision_skin", &skin, NULL));
   PetscCall(PetscOptionsGetReal(NULL, NULL, "-jacobian_eps", &eps, NULL));
   PetscCall(PetscOptionsGetReal(NULL, NULL, "-jacobian_rtol", &rtol, NULL));
   PetscCall(PetscOptionsGetString(NULL, NULL, "-scene", path, sizeof(path), &flg));
@@ -298,9 +368,10 @@ int main(int argc, char **argv)
   PetscCall(PetscMalloc1(3 * model->nparticles, &x));
   PetscCall(CrumpledPositions(scene, model, &cr, x));
 
-  PetscCall(CompareWithBruteForce(cloth, sc, x, cr.thickness, min_contacts, &nall, &all));
+  PetscCall(CompareWithBruteForce(cloth, sc, x, NULL, 0, cr.thickness, min_contacts, &nall, &all));
+  PetscCall(ClothSelfContactGetStatistics(sc, &rest));
   PetscCall(PetscPrintf(PETSC_COMM_WORLD, "identical contact sets\n"));
-  if (check_reuse) PetscCall(CheckReuse(cloth, sc, model, x, cr.thickness, nall, all));
+  if (check_motion) PetscCall(CheckMotion(cloth, sc, model, x, cr.thickness, skin, nall, all, rest.primitive_pairs, min_kept));
   if (check_jacobian) PetscCall(CheckJacobian(cloth, sc, eps, rtol));
   PetscCall(PetscFree(all));
   PetscCall(PetscFree(x));
