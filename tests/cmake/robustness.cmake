@@ -55,6 +55,12 @@ robustness_case(restart_directory 3 2 ${sheet} "Checkpoint tests is a directory:
 robustness_case(restart_missing 3 1 ${sheet} "Checkpoint tests/no_such_checkpoint.h5 does not exist" -- -restart tests/no_such_checkpoint.h5)
 robustness_case(restart_not_hdf5 3 1 ${sheet} "Checkpoint tests/data/table.obj cannot be opened as an HDF5 file" -- -restart tests/data/table.obj)
 
+# Provenance of any size (issue 48): a 2.2 MB scene and a 100 kB option run on 2 ranks and restart; their text is in
+# /provenance of the series and of the checkpoints, byte for byte (tests/drivers/large_provenance.sh). Before: exit 76
+# at output set-up (an HDF5 attribute holds at most 64 kB). 2 s on an idle machine.
+clothsim_add_script_test(robust_large_scene large_provenance.sh ${MPIEXEC_EXECUTABLE})
+set_tests_properties(robust_large_scene PROPERTIES TIMEOUT 120 PROCESSORS 2 LABELS robustness)
+
 # A METIS failure on rank 0 is raised on every rank (src/partition.c), on 1 and 2 ranks.
 clothsim_add_test_program(test_partition_failure test_partition_failure.c)
 clothsim_add_mpi_test(robust_metis_failure_np1 1 $<TARGET_FILE:test_partition_failure>)
