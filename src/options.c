@@ -3,6 +3,7 @@
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 #include "options.h"
 
 PetscErrorCode ClothOptionsCheckReal(MPI_Comm comm, const char option[], PetscReal value, PetscReal min, PetscBool min_open, PetscReal max, const char unit[])
@@ -41,5 +42,17 @@ PetscErrorCode ClothOptionsCheckIntText(MPI_Comm comm, const char option[], Pets
   if (*end) PetscFunctionReturn(PETSC_SUCCESS); /* not an integer: PETSc's parser names it */
   PetscCheck(errno != ERANGE && value >= (long long)min && value <= (long long)max, comm, PETSC_ERR_USER_INPUT, "option %s %s: expected an integer >= %" PetscInt_FMT " and <= %" PetscInt_FMT "%s", option, text, min, max,
              max == PETSC_MAX_INT ? " (the largest count a PetscInt of this build holds)" : "");
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothOptionsCheckStringLength(MPI_Comm comm, const char option[], size_t max, const char why[])
+{
+  const char *value = NULL;
+  PetscBool   set;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsFindPair(NULL, NULL, option, &value, &set));
+  if (!set || !value) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCheck(strlen(value) <= max, comm, PETSC_ERR_USER_INPUT, "option %s %.48s... (%zu characters): expected a path of at most %zu characters%s%s%s", option, value, strlen(value), max, why ? " (" : "", why ? why : "", why ? ")" : "");
   PetscFunctionReturn(PETSC_SUCCESS);
 }

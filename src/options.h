@@ -15,3 +15,8 @@ PetscErrorCode ClothOptionsCheckInt(MPI_Comm comm, const char option[], PetscInt
    5000000000 a run of 705032704 steps). Call before PetscOptionsInt reads it. An option not given, or whose
    text is not an integer, is left to PETSc's parser. Collective on comm. */
 PetscErrorCode ClothOptionsCheckIntText(MPI_Comm comm, const char option[], PetscInt min, PetscInt max);
+/* Errors unless the value of string option `option`, when given, has at most max characters; why says what the
+   limit is (may be NULL). PETSc's PetscOptionsString copies into a buffer of fixed size and cuts a longer value
+   without a word: a 5000-character -output_dir became a 4095-character directory, which then failed in HDF5's
+   open (MPI_ERR_BAD_FILE, exit 76). Call before the option is read. Collective on comm. */
+PetscErrorCode ClothOptionsCheckStringLength(MPI_Comm comm, const char option[], size_t max, const char why[]);

@@ -106,6 +106,11 @@ PetscErrorCode ClothRunCreate(MPI_Comm comm, Scene scene, ClothRun *run)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* The longest -output_dir: a path has at most CLOTH_PATH_LEN - 1 characters (PATH_MAX, 4096 with its NUL, on Linux),
+   and 128 of them stay for "/" and the longest name a run writes in the directory (NAME.xdmf's temporary file, NAME
+   of up to 63 characters; .checkpoint_NNNNNNNNNN.h5.tmp). */
+#define CLOTH_RUN_OUTPUT_NAME_ROOM 128
+
 /* Memory a particle costs, measured: the hanging sheet's peak memory grows by 2.4 kB per particle from 65 x 65 to
    257 x 257 (implicit integrator, 1 rank); contacts and self-collision add to it, so this is a lower bound. */
 #define CLOTH_RUN_BYTES_PER_PARTICLE 2400.0
@@ -149,6 +154,7 @@ PetscErrorCode ClothRunSetFromOptions(ClothRun run)
   PetscReal io_timeout = CLOTH_IO_TIMEOUT_DEFAULT;
   PetscInt  grid       = 0;
   PetscBool set_steps, set_tfinal, set_grid;
+  char      why[128];
 
   PetscFunctionBeginUser;
   /* counts beyond a PetscInt, which PETSc's parser would wrap */
@@ -157,6 +163,10 @@ PetscErrorCode ClothRunSetFromOptions(ClothRun run)
   PetscCall(ClothOptionsCheckIntText(run->comm, "-checkpoint_every", 0, PETSC_MAX_INT));
   PetscCall(ClothOptionsCheckIntText(run->comm, "-checkpoint_keep", 0, PETSC_MAX_INT));
   PetscCall(ClothOptionsCheckIntText(run->comm, "-grid", 2, PETSC_MAX_INT));
+  /* paths beyond the buffers, which PETSc would cut */
+  PetscCall(PetscSNPrintf(why, sizeof(why), "the names of the files in it need %d more of the %d characters a path may have", CLOTH_RUN_OUTPUT_NAME_ROOM, CLOTH_PATH_LEN - 1));
+  PetscCall(ClothOptionsCheckStringLength(run->comm, "-output_dir", CLOTH_PATH_LEN - 1 - CLOTH_RUN_OUTPUT_NAME_ROOM, why));
+  PetscCall(ClothOptionsCheckStringLength(run->comm, "-restart", CLOTH_PATH_LEN - 1, NULL));
   PetscOptionsBegin(run->comm, NULL, "Run (how the scene is simulated)", "ClothRun");
   PetscCall(PetscOptionsInt("-grid", "Particles per side of a scene made of one rectangular piece", "SceneSetGridSize", grid, &grid, &set_grid));
   PetscCall(PetscOptionsReal("-dt", "Time step, s (default on -restart: the checkpoint's)", "ClothRunSolve", run->dt, &run->dt, &run->dt_set));

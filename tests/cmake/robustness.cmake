@@ -38,6 +38,13 @@ robustness_case(grid_too_small 2 1 ${sheet} "option -grid 1: expected an integer
 robustness_case(scene_dev_zero 2 1 /dev/zero "scene /dev/zero: the file is larger than 64 MB: expected a YAML scene file")
 robustness_case(scene_directory 3 2 tests "scene tests: cannot read the file (Is a directory)")
 robustness_case(scene_binary 2 1 tests/data/table.obj "expected a map with keys among")
+# paths longer than the buffers PETSc copies them into, which cut them without a word (issue 48: a 5000-character
+# -output_dir ended in HDF5's MPI_File_open, exit 76; a -restart that long was named as a missing file)
+string(REPEAT "d" 99 long_component)
+string(REPEAT "/${long_component}" 50 long_path)
+set(long_path ${CMAKE_BINARY_DIR}/test-output/long_path${long_path})
+robustness_case(output_dir_too_long 2 1 ${sheet} "option -output_dir ${CMAKE_BINARY_DIR}" "characters): expected a path of at most 3967 characters" -- -output_dir ${long_path})
+robustness_case(restart_path_too_long 2 2 ${sheet} "option -restart ${CMAKE_BINARY_DIR}" "characters): expected a path of at most 4095 characters" -- -restart ${long_path}/checkpoint_000001.h5)
 # nonsense accepted
 robustness_case(checkpoint_keep_negative 2 1 ${sheet} "option -checkpoint_keep -1: expected an integer >= 0" -- -checkpoint_keep -1)
 robustness_case(gravity_ramp_inf 2 1 ${sheet} "option -gravity_ramp inf: expected a finite number >= 0 s" -- -gravity_ramp inf)
