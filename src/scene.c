@@ -991,6 +991,7 @@ static PetscErrorCode SceneReadSeamSide(SceneReader *r, yaml_node_t *seam, const
   PetscFunctionBeginUser;
   PetscCall(SceneGetValueChecked(r, seam, key, PETSC_TRUE, "a map {piece: NAME, side: bottom|right|top|left, from: 0, to: 1}", &map));
   PetscCall(SceneExpectMap(r, map, key, SceneSeamSideKeys, NULL));
+  side->line = SceneNodeLine(map);
   PetscCall(SceneKeyString(r, map, "piece", PETSC_TRUE, name, sizeof(name), &where));
   side->piece = -1;
   for (PetscInt p = 0; p < scene->npieces; p++) {
@@ -1023,6 +1024,37 @@ static PetscErrorCode SceneCheckSeamSidesApart(SceneReader *r, yaml_node_t *map,
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* The length of a seam side's stretch in the flat pattern, m: its fraction of the side's length (the outline's
+   boundary, or the rectangle's edge). */
+static PetscReal SceneSeamSideLength(Scene scene, const SceneSeamSide *side)
+{
+  const ScenePiece *piece  = &scene->pieces[side->piece];
+  PetscReal         length = 0;
+
+  if (!piece->has_boundaries)
+    length = piece->size[side->side == CLOTH_SIDE_BOTTOM || side->side == CLOTH_SIDE_TOP ? 0 : 1];
+  else {
+    const PetscReal *x = piece->boundary_points[side->side]; /* ClothPieceSide and the boundaries: one order */
+
+    for (PetscInt k = 1; k < piece->boundary_npoints[side->side]; k++) length += PetscSqrtReal(PetscSqr(x[2 * k] - x[2 * k - 2]) + PetscSqr(x[2 * k + 1] - x[2 * k - 1]));
+  }
+  return length * PetscAbsReal(side->to - side->from);
+}
+
+/* The two stretches of a seam have lengths within SCENE_SEAM_MAX_LENGTH_RATIO of each other. */
+static PetscErrorCode SceneCheckSeamLengths(SceneReader *r, yaml_node_t *map, Scene scene, const SceneSeam *seam)
+{
+  const PetscReal a = SceneSeamSideLength(scene, &seam->a), b = SceneSeamSideLength(scene, &seam->b);
+
+  PetscFunctionBeginUser;
+  if (PetscMax(a, b) <= SCENE_SEAM_MAX_LENGTH_RATIO * PetscMin(a, b)) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(SceneFailValue(r, map, NULL,
+                           "sides a and b whose lengths differ at most %d times (a gathered seam eases up to about 3 times its length); a (%s side of piece '%s', %g..%g) is %g m, b (%s side of piece '%s', %g..%g) is %g m: a unit mistake?",
+                           SCENE_SEAM_MAX_LENGTH_RATIO, ClothPieceSides[seam->a.side], scene->pieces[seam->a.piece].name, (double)seam->a.from, (double)seam->a.to, (double)a, ClothPieceSides[seam->b.side], scene->pieces[seam->b.piece].name,
+                           (double)seam->b.from, (double)seam->b.to, (double)b));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 static PetscErrorCode SceneReadSeams(SceneReader *r, yaml_node_t *root, Scene scene)
 {
   const char        expected[] = "a list of seams (maps with a, b and optionally name, bend)";
@@ -1048,6 +1080,7 @@ static PetscErrorCode SceneReadSeams(SceneReader *r, yaml_node_t *root, Scene sc
     PetscCall(SceneReadSeamSide(r, map, "a", scene, &seam->a));
     PetscCall(SceneReadSeamSide(r, map, "b", scene, &seam->b));
     PetscCall(SceneCheckSeamSidesApart(r, map, scene, seam));
+    PetscCall(SceneCheckSeamLengths(r, map, scene, seam));
     PetscCall(SceneKeyChoice(r, map, "bend", PETSC_FALSE, SceneBooleans, &bend));
     seam->bend = bend ? PETSC_TRUE : PETSC_FALSE;
   }
