@@ -57,6 +57,14 @@ robustness_case(perturbation_inf 2 1 ${sheet} "option -cloth_perturbation inf: e
 robustness_case(self_collision_thickness_inf 2 2 ${sheet} "Self-collision thickness" "expected a positive number of at most 50 particle spacings" -- -self_collision -self_collision_thickness inf -self_collision_stiffness 20)
 robustness_case(self_collision_thickness_10m 2 1 ${sheet} "Self-collision thickness" "expected a positive number of at most 50 particle spacings" -- -self_collision -self_collision_thickness 10 -self_collision_stiffness 20)
 robustness_case(self_collision_stiffness_inf 2 1 ${sheet} "Self-collision needs a positive, finite stiffness" -- -self_collision -self_collision_thickness 0.01 -self_collision_stiffness inf)
+# a time step beyond the scene's bound with -steps (issue 48: -dt 1e9 -steps 3 ran and exited 0); its simulated time too
+robustness_case(dt_huge_with_steps 2 1 ${sheet} "option -dt 1e+09: expected a finite number > 0 and <= 10 s" -- -dt 1e9 -steps 3)
+robustness_case(steps_beyond_final_time_bound 2 1 ${sheet} "-steps 2000000 with a step of 1 s ends the run at t = 2e+06 s: expected at most 1e+06 s of simulated time" -- -dt 1 -steps 2000000)
+# a restart told to end before its checkpoint (issue 48: "Done: 0 steps", exit 0, the checkpoint rewritten), on 2 ranks:
+# refused, the checkpoint and the series untouched (tests/drivers/restart_before_checkpoint.sh). 6 s, idle machine.
+clothsim_add_script_test(robust_restart_ends_before_checkpoint restart_before_checkpoint.sh 2)
+set_property(TEST robust_restart_ends_before_checkpoint APPEND PROPERTY ENVIRONMENT "MPIEXEC=${MPIEXEC_EXECUTABLE}")
+set_tests_properties(robust_restart_ends_before_checkpoint PROPERTIES TIMEOUT 200 PROCESSORS 2 LABELS robustness)
 # restart faults: a directory, a missing file, a file that is not HDF5
 robustness_case(restart_directory 3 2 ${sheet} "Checkpoint tests is a directory: expected a file (one of the checkpoint_NNNNNN.h5 in it" -- -restart tests)
 robustness_case(restart_missing 3 1 ${sheet} "Checkpoint tests/no_such_checkpoint.h5 does not exist" -- -restart tests/no_such_checkpoint.h5)
