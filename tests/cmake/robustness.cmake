@@ -91,6 +91,14 @@ clothsim_add_script_test(robust_collision_starting_inside starting_inside.sh 2)
 set_property(TEST robust_collision_starting_inside APPEND PROPERTY ENVIRONMENT "MPIEXEC=${MPIEXEC_EXECUTABLE}")
 set_tests_properties(robust_collision_starting_inside PROPERTIES TIMEOUT 150 PROCESSORS 2 LABELS robustness)
 
+# The DXF pattern importer (postprocess/pattern_dxf.py import, issue 48) refuses random bytes, an empty file, a
+# directory, a missing file (exit 3), a NaN vertex, a self-crossing outline, millimetres declared as metres and two
+# pieces of one name (exit 2) with one "ERROR: pattern_dxf:" line and no traceback, and imports a 100,000-vertex outline
+# that clothsim then reads (tests/drivers/pattern_dxf_bad_input.sh). Before: tracebacks, an all-NaN outline and the
+# crossing outline reported as success. 25 s on a shared machine (writing and dumping the 100,000 vertices).
+clothsim_add_script_test(robust_pattern_dxf_bad_input pattern_dxf_bad_input.sh)
+set_tests_properties(robust_pattern_dxf_bad_input PROPERTIES TIMEOUT 150 PROCESSORS 1 LABELS robustness)
+
 # A METIS failure on rank 0 is raised on every rank (src/partition.c), on 1 and 2 ranks.
 clothsim_add_test_program(test_partition_failure test_partition_failure.c)
 clothsim_add_mpi_test(robust_metis_failure_np1 1 $<TARGET_FILE:test_partition_failure>)
