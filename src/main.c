@@ -64,6 +64,7 @@ int main(int argc, char **argv)
   PetscCall(ClothLogPhaseEnd(CLOTH_SETUP_SCENE));
   PetscCall(ClothRunCreate(PETSC_COMM_WORLD, scene, &run));
   PetscCall(ClothRunSetFromOptions(run));
+  PetscCall(ClothOptionsCheckMisspelled(PETSC_COMM_WORLD)); /* before the run, not only in its last words */
   PetscCall(SceneView(scene, PETSC_VIEWER_STDOUT_WORLD));
   PetscCall(ClothRunSetUp(run));
   PetscCall(ClothRunSolve(run));

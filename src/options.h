@@ -20,3 +20,12 @@ PetscErrorCode ClothOptionsCheckIntText(MPI_Comm comm, const char option[], Pets
    without a word: a 5000-character -output_dir became a 4095-character directory, which then failed in HDF5's
    open (MPI_ERR_BAD_FILE, exit 76). Call before the option is read. Collective on comm. */
 PetscErrorCode ClothOptionsCheckStringLength(MPI_Comm comm, const char option[], size_t max, const char why[]);
+/* Refuses an option nobody has read so far that looks like a misspelled or unknown clothsim option, before the run
+   (at the end of it, the unused options are only listed: a long job ran without its checkpoints when
+   -checkpont_every 5 was given). It looks like one when it is within a small edit distance of an option clothsim
+   reads (the names of the sources' PetscOptions calls, gathered at build time: scripts/option_names.cmake), or when
+   it starts like a family of them (-checkpoint_, -collision_, -output_, ...); the message names the nearest option.
+   PETSc's own options (-ksp_*, -pc_*, -log_*, -mg_*, ...), those of PETSc objects with clothsim's prefixes
+   (-fallback_*, -implicit_mat_*, -cloth_partition_*) and options read later in the run by PETSc are left alone: they
+   are either used by the end or listed then. Collective on comm (every rank holds the same options). */
+PetscErrorCode ClothOptionsCheckMisspelled(MPI_Comm comm);

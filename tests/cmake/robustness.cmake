@@ -65,6 +65,10 @@ robustness_case(steps_beyond_final_time_bound 2 1 ${sheet} "-steps 2000000 with 
 clothsim_add_script_test(robust_restart_ends_before_checkpoint restart_before_checkpoint.sh 2)
 set_property(TEST robust_restart_ends_before_checkpoint APPEND PROPERTY ENVIRONMENT "MPIEXEC=${MPIEXEC_EXECUTABLE}")
 set_tests_properties(robust_restart_ends_before_checkpoint PROPERTIES TIMEOUT 200 PROCESSORS 2 LABELS robustness)
+# a misspelled or unknown clothsim option is refused before the run, naming the nearest option or its family (issue 48:
+# -checkpont_every 5 was listed only after the whole run, which wrote no checkpoint meanwhile)
+robustness_case(option_misspelled 2 2 ${sheet} "option -checkpont_every 5 is not an option of clothsim: did you mean -checkpoint_every?" -- -checkpont_every 5)
+robustness_case(option_unknown_family 2 1 input/sphere_drape.yaml "option -collision_friction_coefficient 0.3 is not an option of clothsim: expected one of its -collision_ options: -collision_allow_inside, -collision_cell_size" -- -collision_friction_coefficient 0.3)
 # restart faults: a directory, a missing file, a file that is not HDF5
 robustness_case(restart_directory 3 2 ${sheet} "Checkpoint tests is a directory: expected a file (one of the checkpoint_NNNNNN.h5 in it" -- -restart tests)
 robustness_case(restart_missing 3 1 ${sheet} "Checkpoint tests/no_such_checkpoint.h5 does not exist" -- -restart tests/no_such_checkpoint.h5)
