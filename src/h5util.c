@@ -5,6 +5,9 @@
 #include <string.h>
 #include "h5util.h"
 
+/* The longest string attribute read: clothsim writes names and paths (CLOTH_PATH_LEN) as attributes. */
+#define CLOTH_H5_MAX_STRING_ATTRIBUTE (1 << 20)
+
 /* The longest file name Open MPI 4.1's ompio opens (measured: 244 opens, 245 aborts in MPI_File_open). */
 #define CLOTH_OMPIO_PATH_MAX 244
 
@@ -425,6 +428,8 @@ PetscErrorCode ClothH5AttributeReadString(hid_t obj, const char name[], char val
   ClothCallHDF5(filetype = H5Aget_type(attr));
   PetscCheck(H5Tget_class(filetype) == H5T_STRING && H5Tis_variable_str(filetype) == 0, PETSC_COMM_SELF, PETSC_ERR_FILE_UNEXPECTED, "HDF5 attribute %s is not a fixed-length string", name);
   PetscCheck((size = H5Tget_size(filetype)) > 0, PETSC_COMM_SELF, PETSC_ERR_LIB, "HDF5 call failed: H5Tget_size(%s)", name);
+  /* the size is the file's word: a damaged datatype may claim gigabytes, which would end in the allocator */
+  PetscCheck(size <= CLOTH_H5_MAX_STRING_ATTRIBUTE, PETSC_COMM_SELF, PETSC_ERR_FILE_UNEXPECTED, "HDF5 attribute %s is a string of %zu bytes: expected at most %d (a name or a path)", name, size, CLOTH_H5_MAX_STRING_ATTRIBUTE);
   PetscCall(H5StringType(size, &memtype));
   PetscCall(PetscCalloc1(size + 1, &buffer));
   ClothCallHDF5(H5Aread(attr, memtype, buffer));

@@ -103,6 +103,12 @@ set_tests_properties(robust_collision_starting_inside PROPERTIES TIMEOUT 150 PRO
 clothsim_add_script_test(robust_pattern_dxf_bad_input pattern_dxf_bad_input.sh)
 set_tests_properties(robust_pattern_dxf_bad_input PROPERTIES TIMEOUT 150 PROCESSORS 1 LABELS robustness)
 
+# A checkpoint whose string attribute claims 2 MB is refused as corrupt before the reader allocates what the file claims
+# (tests/drivers/checkpoint_huge_attribute.sh; issue 48's sweep: read before). 4 s on an idle machine.
+clothsim_add_script_test(robust_checkpoint_huge_attribute checkpoint_huge_attribute.sh 2)
+set_property(TEST robust_checkpoint_huge_attribute APPEND PROPERTY ENVIRONMENT "MPIEXEC=${MPIEXEC_EXECUTABLE}")
+set_tests_properties(robust_checkpoint_huge_attribute PROPERTIES TIMEOUT 150 PROCESSORS 2 LABELS robustness)
+
 # A METIS failure on rank 0 is raised on every rank (src/partition.c), on 1 and 2 ranks.
 clothsim_add_test_program(test_partition_failure test_partition_failure.c)
 clothsim_add_mpi_test(robust_metis_failure_np1 1 $<TARGET_FILE:test_partition_failure>)
