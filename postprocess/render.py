@@ -155,12 +155,13 @@ CLOTH = ("fabric", "piece")  # the colourings shaded as cloth
 
 def scene_fabric_of_pieces(xdmf):
     """Per pattern piece in the scene's order, the index of its fabric in the scene's fabrics: (the scene is kept in
-    the series' .h5 as the attribute scene_text); None when the series does not say."""
+    the series' .h5 as the dataset /provenance/scene_text, in series of clothsim before 2026-11-29 as the attribute
+    scene_text); None when the series does not say."""
     import h5py
     import yaml
     try:
         with h5py.File(os.path.splitext(xdmf)[0] + ".h5", "r") as f:
-            text = f.attrs["scene_text"]
+            text = f["provenance/scene_text"][()] if "provenance/scene_text" in f else f.attrs["scene_text"]
         scene = yaml.safe_load(text.decode() if isinstance(text, bytes) else text)
         fabrics = list(scene["fabrics"])
         return [fabrics.index(piece["fabric"]) for piece in scene["pieces"]]

@@ -144,7 +144,7 @@ static PetscErrorCode CheckpointWriteAttributes(MPI_Comm comm, hid_t state, cons
   PetscCall(ClothH5AttributeWriteInt64(state, "scene_fingerprint", info->scene_fingerprint));
   PetscCall(ClothH5AttributeWriteInt64(state, "nparticles", nparticles));
   PetscCall(ClothH5AttributeWriteInt64(state, "nranks", size));
-  PetscCall(ClothProvenanceWrite(state, info->scene));
+  PetscCall(ClothProvenanceWrite(comm, state, info->scene));
   PetscCall(ClothH5AttributeWriteString(state, "checksum_method", CHECKPOINT_CHECKSUM_METHOD));
   PetscCall(ClothH5AttributeWriteUInt64(state, "info_checksum", CheckpointInfoChecksum(info, nparticles)));
   if (info->run_id) PetscCall(ClothH5AttributeWriteUInt64(state, "run_id", info->run_id));
@@ -279,14 +279,17 @@ static PetscErrorCode CheckpointRemoveOld(MPI_Comm comm, const char dir[], Petsc
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* Room for the checkpoint's datasets (8 bytes a value) plus 1 MB of metadata, checked before the file is created. */
-static PetscErrorCode CheckpointCheckSpace(MPI_Comm comm, const char dir[], const char tmp[], PetscInt nfields, const ClothCheckpointField fields[])
+/* Room for the checkpoint's datasets (8 bytes a value), its provenance (up to the 64 MB of a scene) plus 1 MB of
+   metadata, checked before the file is created. */
+static PetscErrorCode CheckpointCheckSpace(MPI_Comm comm, const char dir[], const char tmp[], Scene scene, PetscInt nfields, const ClothCheckpointField fields[])
 {
-  double   bytes = 1e6;
+  double   bytes;
   PetscInt n;
   char     what[CLOTH_PATH_LEN + 32];
 
   PetscFunctionBeginUser;
+  PetscCall(ClothProvenanceSize(scene, &bytes));
+  bytes += 1e6;
   for (PetscInt f = 0; f < nfields; f++) {
     PetscCall(VecGetSize(fields[f].vec, &n));
     bytes += 8.0 * (double)n;
@@ -427,7 +430,7 @@ PetscErrorCode ClothCheckpointWrite(MPI_Comm comm, const char dir[], const Cloth
   PetscCall(PetscSNPrintf(path, sizeof(path), "%s/checkpoint_%06" PetscInt64_FMT ".h5", dir, info->step));
   PetscCall(PetscSNPrintf(tmp, sizeof(tmp), "%s/.checkpoint_%06" PetscInt64_FMT ".h5.tmp", dir, info->step));
   PetscCall(ClothFileMakeDirectory(comm, dir));
-  PetscCall(CheckpointCheckSpace(comm, dir, tmp, nfields, fields));
+  PetscCall(CheckpointCheckSpace(comm, dir, tmp, info->scene, nfields, fields));
   PetscCall(CheckpointWriteTemporary(comm, tmp, info, nfields, fields));
   PetscCall(ClothFileRename(comm, tmp, path));
   if (keep > 0) PetscCall(CheckpointRemoveOld(comm, dir, info->step, keep, info->run_id));

@@ -5,6 +5,9 @@
 #include <string.h>
 #include "h5util.h"
 
+/* The longest string attribute read: clothsim writes names and paths (CLOTH_PATH_LEN) as attributes. */
+#define CLOTH_H5_MAX_STRING_ATTRIBUTE (1 << 20)
+
 /* The longest file name Open MPI 4.1's ompio opens (measured: 244 opens, 245 aborts in MPI_File_open). */
 #define CLOTH_OMPIO_PATH_MAX 244
 
@@ -269,6 +272,36 @@ PetscErrorCode ClothH5WriteRealTable(MPI_Comm comm, hid_t loc, const char name[]
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* A fixed-length, null-terminated string type of len characters. */
+static PetscErrorCode H5StringType(size_t len, hid_t *type)
+{
+  PetscFunctionBeginUser;
+  ClothCallHDF5(*type = H5Tcopy(H5T_C_S1));
+  ClothCallHDF5(H5Tset_size(*type, len + 1));
+  ClothCallHDF5(H5Tset_strpad(*type, H5T_STR_NULLTERM));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothH5WriteText(MPI_Comm comm, hid_t loc, const char name[], const char text[])
+{
+  PetscMPIInt rank;
+  hid_t       type, space, dset, dxpl;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCall(H5StringType(strlen(text), &type));
+  ClothCallHDF5(space = H5Screate(H5S_SCALAR));
+  ClothCallHDF5(dset = H5Dcreate2(loc, name, type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
+  if (rank) ClothCallHDF5(H5Sselect_none(space)); /* the same space as memory and file selection */
+  PetscCall(H5TransferCreate(&dxpl));
+  ClothCallHDF5(H5Dwrite(dset, type, space, space, dxpl, text));
+  ClothCallHDF5(H5Pclose(dxpl));
+  ClothCallHDF5(H5Dclose(dset));
+  ClothCallHDF5(H5Sclose(space));
+  ClothCallHDF5(H5Tclose(type));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode ClothH5AttributeExists(hid_t obj, const char name[], PetscBool *exists)
 {
   htri_t found;
@@ -351,9 +384,7 @@ PetscErrorCode ClothH5AttributeWriteString(hid_t obj, const char name[], const c
   hid_t type;
 
   PetscFunctionBeginUser;
-  ClothCallHDF5(type = H5Tcopy(H5T_C_S1));
-  ClothCallHDF5(H5Tset_size(type, strlen(value) + 1));
-  ClothCallHDF5(H5Tset_strpad(type, H5T_STR_NULLTERM));
+  PetscCall(H5StringType(strlen(value), &type));
   PetscCall(H5AttributeWrite(obj, name, type, type, value));
   ClothCallHDF5(H5Tclose(type));
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -397,9 +428,9 @@ PetscErrorCode ClothH5AttributeReadString(hid_t obj, const char name[], char val
   ClothCallHDF5(filetype = H5Aget_type(attr));
   PetscCheck(H5Tget_class(filetype) == H5T_STRING && H5Tis_variable_str(filetype) == 0, PETSC_COMM_SELF, PETSC_ERR_FILE_UNEXPECTED, "HDF5 attribute %s is not a fixed-length string", name);
   PetscCheck((size = H5Tget_size(filetype)) > 0, PETSC_COMM_SELF, PETSC_ERR_LIB, "HDF5 call failed: H5Tget_size(%s)", name);
-  ClothCallHDF5(memtype = H5Tcopy(H5T_C_S1));
-  ClothCallHDF5(H5Tset_size(memtype, size + 1));
-  ClothCallHDF5(H5Tset_strpad(memtype, H5T_STR_NULLTERM));
+  /* the size is the file's word: a damaged datatype may claim gigabytes, which would end in the allocator */
+  PetscCheck(size <= CLOTH_H5_MAX_STRING_ATTRIBUTE, PETSC_COMM_SELF, PETSC_ERR_FILE_UNEXPECTED, "HDF5 attribute %s is a string of %zu bytes: expected at most %d (a name or a path)", name, size, CLOTH_H5_MAX_STRING_ATTRIBUTE);
+  PetscCall(H5StringType(size, &memtype));
   PetscCall(PetscCalloc1(size + 1, &buffer));
   ClothCallHDF5(H5Aread(attr, memtype, buffer));
   PetscCall(PetscStrncpy(value, buffer, len));

@@ -44,8 +44,14 @@ PetscErrorCode ClothH5ReadVec(hid_t loc, const char name[], Vec v, PetscInt ncom
 PetscErrorCode ClothH5WriteIntTable(MPI_Comm comm, hid_t loc, const char name[], PetscInt rows, PetscInt cols, const PetscInt data[]);
 PetscErrorCode ClothH5WriteRealTable(MPI_Comm comm, hid_t loc, const char name[], PetscInt rows, PetscInt cols, const PetscReal data[]);
 
+/* Writes text (any length) as the scalar dataset loc/name of a fixed-length, null-terminated ASCII string (h5py:
+   f[name][()] gives its bytes): rank 0 writes it, the others take part in the collective call. A dataset, not an
+   attribute: an attribute lives in its object's header, which holds at most 64 kB (a longer one fails in H5Acreate2). */
+PetscErrorCode ClothH5WriteText(MPI_Comm comm, hid_t loc, const char name[], const char text[]);
+
 /* Scalar attributes on a group or dataset; a write replaces an attribute of the same name. Strings
-   are stored as fixed-length, null-terminated ASCII; a read truncates to len - 1 characters. */
+   are stored as fixed-length, null-terminated ASCII; a read truncates to len - 1 characters. Only for values of
+   bounded size (names, numbers, paths): text that may exceed 64 kB goes into a dataset (ClothH5WriteText). */
 PetscErrorCode ClothH5AttributeExists(hid_t obj, const char name[], PetscBool *exists);
 PetscErrorCode ClothH5AttributeWriteInt64(hid_t obj, const char name[], PetscInt64 value);
 PetscErrorCode ClothH5AttributeWriteUInt64(hid_t obj, const char name[], uint64_t value);

@@ -5,6 +5,7 @@
 #include "run.h"
 #include "errors.h"
 #include "log.h"
+#include "options.h"
 
 static const char help[] = "clothsim: woven fabric as a particle system (MPI + PETSc).\n"
                            "Usage: mpiexec -n P clothsim -scene input/NAME.yaml [options]\n"
@@ -24,6 +25,7 @@ static PetscErrorCode GetScenePath(char path[], size_t size)
   PetscCall(PetscOptionsBool("-debug_errors", "Report user errors (bad input, files, divergence) with PETSc's full traceback instead of one message", "ClothErrorHandlerPush", debug_errors, &debug_errors, NULL));
   PetscOptionsEnd();
   if (!debug_errors) PetscCall(ClothErrorHandlerPush());
+  PetscCall(ClothOptionsCheckStringLength(PETSC_COMM_WORLD, "-scene", size - 1, NULL)); /* PETSc cut a longer one to size - 1 */
   PetscCheck(has_scene, PETSC_COMM_WORLD, PETSC_ERR_USER_INPUT, "No scene given: run as clothsim -scene input/NAME.yaml (see -help)");
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -62,6 +64,7 @@ int main(int argc, char **argv)
   PetscCall(ClothLogPhaseEnd(CLOTH_SETUP_SCENE));
   PetscCall(ClothRunCreate(PETSC_COMM_WORLD, scene, &run));
   PetscCall(ClothRunSetFromOptions(run));
+  PetscCall(ClothOptionsCheckMisspelled(PETSC_COMM_WORLD)); /* before the run, not only in its last words */
   PetscCall(SceneView(scene, PETSC_VIEWER_STDOUT_WORLD));
   PetscCall(ClothRunSetUp(run));
   PetscCall(ClothRunSolve(run));

@@ -345,7 +345,7 @@ static PetscErrorCode OutputSetUpFile(ClothOutput out, const ClothOutputTopology
   } else {
     PetscCall(ClothH5FileCreate(out->comm, out->h5path, &file));
     if (topology->run_id) PetscCall(ClothH5AttributeWriteUInt64(file, "run_id", topology->run_id));
-    PetscCall(ClothProvenanceWrite(file, topology->scene)); /* what made the series; a restart appends to it */
+    PetscCall(ClothProvenanceWrite(out->comm, file, topology->scene)); /* what made the series; a restart appends to it */
     PetscCall(OutputWriteTopology(out, file, topology));
   }
   PetscCall(ClothH5FileClose(&file));

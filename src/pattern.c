@@ -44,30 +44,44 @@ PetscErrorCode PatternResampleByArcLength(PetscInt npoints, const PetscReal poin
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* Coons patch: x(s, t) = (1 - t) B(s) + t T(s) + (1 - s) L(t) + s R(t) - bilinear(corners), with s = i/(nu-1),
-   t = j/(nv-1) and B, T, L, R the boundary nodes at equal arc length (so B(s_i) is node i of the bottom). */
-static PetscErrorCode PatternMeshTransfinite(const ScenePiece *piece, PetscReal uv[])
+/* The four sides' nodes at equal arc length: bottom and top nu nodes, right and left nv (2 reals each, allocated). */
+static PetscErrorCode PatternResampleSides(const ScenePiece *piece, PetscReal *side[4])
 {
-  const PetscInt nu = piece->nu, nv = piece->nv;
-  PetscReal     *side[4];
-
   PetscFunctionBeginUser;
   for (PetscInt b = 0; b < 4; b++) {
-    const PetscInt n = (b == PATTERN_BOTTOM || b == PATTERN_TOP) ? nu : nv;
+    const PetscInt n = (b == PATTERN_BOTTOM || b == PATTERN_TOP) ? piece->nu : piece->nv;
 
     PetscCall(PetscMalloc1(2 * n, &side[b]));
     PetscCall(PatternResampleByArcLength(piece->boundary_npoints[b], piece->boundary_points[b], n, side[b]));
   }
-  for (PetscInt j = 0; j < nv; j++)
-    for (PetscInt i = 0; i < nu; i++) {
-      const PetscReal s = (PetscReal)i / (nu - 1), t = (PetscReal)j / (nv - 1);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
 
-      for (PetscInt c = 0; c < 2; c++) {
-        const PetscReal corners = (1 - s) * (1 - t) * side[PATTERN_BOTTOM][c] + s * (1 - t) * side[PATTERN_BOTTOM][2 * (nu - 1) + c] + (1 - s) * t * side[PATTERN_TOP][c] + s * t * side[PATTERN_TOP][2 * (nu - 1) + c];
+/* Coons patch: x(s, t) = (1 - t) B(s) + t T(s) + (1 - s) L(t) + s R(t) - bilinear(corners), with s = i/(nu-1),
+   t = j/(nv-1) and B, T, L, R the boundary nodes at equal arc length (so B(s_i) is node i of the bottom): row j of
+   the grid (2 nu reals). */
+static void TransfiniteRow(const ScenePiece *piece, PetscReal *const side[4], PetscInt j, PetscReal row[])
+{
+  const PetscInt nu = piece->nu, nv = piece->nv;
 
-        uv[2 * (j * nu + i) + c] = (1 - t) * side[PATTERN_BOTTOM][2 * i + c] + t * side[PATTERN_TOP][2 * i + c] + (1 - s) * side[PATTERN_LEFT][2 * j + c] + s * side[PATTERN_RIGHT][2 * j + c] - corners;
-      }
+  for (PetscInt i = 0; i < nu; i++) {
+    const PetscReal s = (PetscReal)i / (nu - 1), t = (PetscReal)j / (nv - 1);
+
+    for (PetscInt c = 0; c < 2; c++) {
+      const PetscReal corners = (1 - s) * (1 - t) * side[PATTERN_BOTTOM][c] + s * (1 - t) * side[PATTERN_BOTTOM][2 * (nu - 1) + c] + (1 - s) * t * side[PATTERN_TOP][c] + s * t * side[PATTERN_TOP][2 * (nu - 1) + c];
+
+      row[2 * i + c] = (1 - t) * side[PATTERN_BOTTOM][2 * i + c] + t * side[PATTERN_TOP][2 * i + c] + (1 - s) * side[PATTERN_LEFT][2 * j + c] + s * side[PATTERN_RIGHT][2 * j + c] - corners;
     }
+  }
+}
+
+static PetscErrorCode PatternMeshTransfinite(const ScenePiece *piece, PetscReal uv[])
+{
+  PetscReal *side[4];
+
+  PetscFunctionBeginUser;
+  PetscCall(PatternResampleSides(piece, side));
+  for (PetscInt j = 0; j < piece->nv; j++) TransfiniteRow(piece, side, j, &uv[2 * j * piece->nu]);
   for (PetscInt b = 0; b < 4; b++) PetscCall(PetscFree(side[b]));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -85,19 +99,22 @@ static PetscReal CellArea(PetscInt nu, const PetscReal uv[], PetscInt i, PetscIn
   return 0.5 * area;
 }
 
+/* The first cell of row j of a grid of nu columns whose signed area is not positive (and *area), or -1. */
+static PetscInt FirstFoldedCellOfRow(PetscInt nu, const PetscReal uv[], PetscInt j, PetscReal *area)
+{
+  for (PetscInt i = 0; i + 1 < nu; i++)
+    if (!((*area = CellArea(nu, uv, i, j)) > 0)) return i;
+  *area = 0;
+  return -1;
+}
+
 /* The first cell (row by row) whose signed area is not positive; *i = -1 when there is none. */
 static void FirstFoldedCell(const ScenePiece *piece, const PetscReal uv[], PetscInt *i, PetscInt *j, PetscReal *area)
 {
   *i = *j = -1;
   *area   = 0;
-  for (PetscInt jj = 0; jj + 1 < piece->nv; jj++)
-    for (PetscInt ii = 0; ii + 1 < piece->nu; ii++)
-      if (!(CellArea(piece->nu, uv, ii, jj) > 0)) {
-        *i    = ii;
-        *j    = jj;
-        *area = CellArea(piece->nu, uv, ii, jj);
-        return;
-      }
+  for (PetscInt jj = 0; jj + 1 < piece->nv && *i < 0; jj++)
+    if ((*i = FirstFoldedCellOfRow(piece->nu, uv, jj, area)) >= 0) *j = jj;
 }
 
 static PetscErrorCode PatternMeshUnchecked(const ScenePiece *piece, PetscReal uv[])
@@ -110,15 +127,27 @@ static PetscErrorCode PatternMeshUnchecked(const ScenePiece *piece, PetscReal uv
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* Two rows of the grid at a time, so that the scene reader checks a grid of any size in O(nu + nv) memory: it runs
+   before the run's memory check, and meshing the whole piece there took 16 bytes a particle (11 GB for the
+   largest grid allowed) before the grid was known to fit. The first folded cell row by row, as FirstFoldedCell. */
 PetscErrorCode PatternFindFoldedCell(const ScenePiece *piece, PetscInt *i, PetscInt *j, PetscReal *area)
 {
-  PetscReal *uv;
+  PetscReal *side[4], *rows; /* rows j and j + 1 */
 
   PetscFunctionBeginUser;
-  PetscCall(PetscMalloc1(2 * piece->nu * piece->nv, &uv));
-  PetscCall(PatternMeshUnchecked(piece, uv));
-  FirstFoldedCell(piece, uv, i, j, area);
-  PetscCall(PetscFree(uv));
+  *i = *j = -1;
+  *area   = 0;
+  if (!piece->has_boundaries) PetscFunctionReturn(PETSC_SUCCESS); /* a rectangle of positive size */
+  PetscCall(PatternResampleSides(piece, side));
+  PetscCall(PetscMalloc1(4 * piece->nu, &rows));
+  TransfiniteRow(piece, side, 0, rows);
+  for (PetscInt jj = 0; jj + 1 < piece->nv && *i < 0; jj++) {
+    TransfiniteRow(piece, side, jj + 1, &rows[2 * piece->nu]);
+    if ((*i = FirstFoldedCellOfRow(piece->nu, rows, 0, area)) >= 0) *j = jj;
+    PetscCall(PetscArraycpy(rows, &rows[2 * piece->nu], 2 * piece->nu));
+  }
+  PetscCall(PetscFree(rows));
+  for (PetscInt b = 0; b < 4; b++) PetscCall(PetscFree(side[b]));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

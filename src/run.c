@@ -33,6 +33,8 @@ struct _n_ClothRun {
   PetscInt  dt_start_step;     /* step and time at which dt came into use (0, 0 unless a restart */
   PetscReal dt_start_time;     /* changed dt): time = dt_start_time + dt (step - dt_start_step) */
   PetscBool dt_set;            /* -dt given: it overrides the step of a restart's checkpoint */
+  PetscBool steps_set;         /* -steps given (for messages: what set the end of the run) */
+  PetscBool t_final_set;       /* -t_final given */
   PetscBool restart_any_scene; /* -restart_any_scene: accept a checkpoint of another scene (same particle count) */
   PetscBool output_overwrite;  /* -output_overwrite: a new run may replace the results in output_dir */
   int       output_lock;       /* rank 0: the lock on output_dir (fileutil.h); -1 elsewhere */
@@ -106,6 +108,11 @@ PetscErrorCode ClothRunCreate(MPI_Comm comm, Scene scene, ClothRun *run)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* The longest -output_dir: a path has at most CLOTH_PATH_LEN - 1 characters (PATH_MAX, 4096 with its NUL, on Linux),
+   and 128 of them stay for "/" and the longest name a run writes in the directory (NAME.xdmf's temporary file, NAME
+   of up to 63 characters; .checkpoint_NNNNNNNNNN.h5.tmp). */
+#define CLOTH_RUN_OUTPUT_NAME_ROOM 128
+
 /* Memory a particle costs, measured: the hanging sheet's peak memory grows by 2.4 kB per particle from 65 x 65 to
    257 x 257 (implicit integrator, 1 rank); contacts and self-collision add to it, so this is a lower bound. */
 #define CLOTH_RUN_BYTES_PER_PARTICLE 2400.0
@@ -148,7 +155,8 @@ PetscErrorCode ClothRunSetFromOptions(ClothRun run)
 {
   PetscReal io_timeout = CLOTH_IO_TIMEOUT_DEFAULT;
   PetscInt  grid       = 0;
-  PetscBool set_steps, set_tfinal, set_grid;
+  PetscBool set_grid;
+  char      why[128];
 
   PetscFunctionBeginUser;
   /* counts beyond a PetscInt, which PETSc's parser would wrap */
@@ -157,11 +165,15 @@ PetscErrorCode ClothRunSetFromOptions(ClothRun run)
   PetscCall(ClothOptionsCheckIntText(run->comm, "-checkpoint_every", 0, PETSC_MAX_INT));
   PetscCall(ClothOptionsCheckIntText(run->comm, "-checkpoint_keep", 0, PETSC_MAX_INT));
   PetscCall(ClothOptionsCheckIntText(run->comm, "-grid", 2, PETSC_MAX_INT));
+  /* paths beyond the buffers, which PETSc would cut */
+  PetscCall(PetscSNPrintf(why, sizeof(why), "the names of the files in it need %d more of the %d characters a path may have", CLOTH_RUN_OUTPUT_NAME_ROOM, CLOTH_PATH_LEN - 1));
+  PetscCall(ClothOptionsCheckStringLength(run->comm, "-output_dir", CLOTH_PATH_LEN - 1 - CLOTH_RUN_OUTPUT_NAME_ROOM, why));
+  PetscCall(ClothOptionsCheckStringLength(run->comm, "-restart", CLOTH_PATH_LEN - 1, NULL));
   PetscOptionsBegin(run->comm, NULL, "Run (how the scene is simulated)", "ClothRun");
   PetscCall(PetscOptionsInt("-grid", "Particles per side of a scene made of one rectangular piece", "SceneSetGridSize", grid, &grid, &set_grid));
   PetscCall(PetscOptionsReal("-dt", "Time step, s (default on -restart: the checkpoint's)", "ClothRunSolve", run->dt, &run->dt, &run->dt_set));
-  PetscCall(PetscOptionsReal("-t_final", "Simulated time to reach, s", "ClothRunSolve", run->t_final, &run->t_final, &set_tfinal));
-  PetscCall(PetscOptionsInt("-steps", "Number of steps (instead of -t_final)", "ClothRunSolve", run->steps, &run->steps, &set_steps));
+  PetscCall(PetscOptionsReal("-t_final", "Simulated time to reach, s", "ClothRunSolve", run->t_final, &run->t_final, &run->t_final_set));
+  PetscCall(PetscOptionsInt("-steps", "Number of steps (instead of -t_final)", "ClothRunSolve", run->steps, &run->steps, &run->steps_set));
   PetscCall(PetscOptionsString("-output_dir", "Directory for the XDMF series and checkpoints", "ClothRunSetUp", run->output_dir, run->output_dir, sizeof(run->output_dir), NULL));
   PetscCall(PetscOptionsBool("-output_overwrite", "A new run may replace the results already in -output_dir (otherwise refused; -restart continues them)", "ClothRunSetUp", run->output_overwrite, &run->output_overwrite, NULL));
   PetscCall(PetscOptionsInt("-output_every", "Write an XDMF frame every K steps (0: only the first and last)", "ClothRunSolve", run->output_every, &run->output_every, NULL));
@@ -193,7 +205,7 @@ PetscErrorCode ClothRunSetFromOptions(ClothRun run)
     PetscCall(ClothOptionsCheckInt(run->comm, "-grid", grid, 2, PETSC_MAX_INT));
     PetscCall(SceneSetGridSize(run->scene, grid));
   }
-  if (set_tfinal && !set_steps) run->steps = 0;
+  if (run->t_final_set && !run->steps_set) run->steps = 0;
   if (run->steps == 0) PetscCall(ClothOptionsCheckReal(run->comm, "-t_final", run->t_final, 0, PETSC_TRUE, PETSC_MAX_REAL, "s"));
   PetscCall(ClothRunCheckMemory(run));
   PetscCall(ClothSetFromOptions(run->cloth));
@@ -334,13 +346,12 @@ static PetscErrorCode ClothRunRestoreWarmStart(ClothRun run)
    step came into use, so that a restart with another -dt still ends at t_final). Counted in double: a
    count beyond PetscInt (-t_final 1e9 with a small step) is refused, as is a new run of no step at all
    (-dt longer than -t_final), which would otherwise end at once with exit status 0 like a finished run. */
-static PetscErrorCode ClothRunResolveSteps(ClothRun run)
+static PetscErrorCode ClothRunStepsFromFinalTime(ClothRun run)
 {
   double last;
   char   message[256] = "";
 
   PetscFunctionBeginUser;
-  if (run->steps > 0) PetscFunctionReturn(PETSC_SUCCESS);
   last = (double)run->dt_start_step + floor((double)(run->t_final - run->dt_start_time) / (double)run->dt + 0.5);
   /* snprintf, not PETSc's printf, whose %g writes 1e9 as "1e+09." */
   if (last > (double)PETSC_MAX_INT)
@@ -349,7 +360,51 @@ static PetscErrorCode ClothRunResolveSteps(ClothRun run)
   else if (last < 1 && !run->restart[0])
     snprintf(message, sizeof(message), "-t_final %g s with -dt %g s is less than half a step: expected -dt <= -t_final (at least one step)", (double)run->t_final, (double)run->dt);
   PetscCheck(!message[0], run->comm, PETSC_ERR_USER_INPUT, "%s", message);
-  run->steps = (PetscInt)last;
+  run->steps = (PetscInt)PetscMax(last, -1.0); /* -1: before any checkpoint, refused by ClothRunCheckEnd */
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* What set the end of the run, for messages: "-steps 10", "-t_final 0.1 s", "the scene's run: t_final 1 s". */
+static PetscErrorCode ClothRunDescribeEnd(ClothRun run, char buf[], size_t len)
+{
+  const PetscBool by_steps = run->steps_set || (!run->t_final_set && run->scene->run.steps > 0);
+
+  PetscFunctionBeginUser;
+  if (by_steps)
+    snprintf(buf, len, "%s %" PetscInt_FMT, run->steps_set ? "-steps" : "the scene's run: steps", run->steps);
+  else
+    snprintf(buf, len, "%s %g s", run->t_final_set ? "-t_final" : run->scene->run.t_final > 0 ? "the scene's run: t_final" : "the default -t_final", (double)run->t_final);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* A restart ends at or after its checkpoint: one told to end before it (-t_final or -steps of an earlier point)
+   used to print "Done: 0 steps", exit 0 and rewrite the checkpoint, like a finished run. And the run's step and its
+   simulated time stay within the scene's bounds of dt and t_final (-dt 1e9 -steps 3 ran). */
+static PetscErrorCode ClothRunCheckEnd(ClothRun run)
+{
+  const double end = (double)run->dt_start_time + (double)run->dt * (double)(run->steps - run->dt_start_step);
+  char         what[128], message[CLOTH_PATH_LEN + 512] = "";
+
+  PetscFunctionBeginUser;
+  if (run->dt_set) PetscCall(ClothOptionsCheckReal(run->comm, "-dt", run->dt, 0, PETSC_TRUE, SCENE_MAX_DT, "s (a cloth time step of more than 10 s is a unit mistake)"));
+  PetscCall(ClothRunDescribeEnd(run, what, sizeof(what)));
+  /* snprintf, not PETSc's printf, whose %g writes 1 as "1." */
+  if (run->steps < run->step)
+    snprintf(message, sizeof(message),
+             "%s ends the run at step %" PetscInt_FMT " (t = %g s), before step %" PetscInt_FMT
+             " (t = %g s) of checkpoint %s: expected an end at or after the checkpoint's (-steps counts every step of the run, the checkpoint's too: -steps >= %" PetscInt_FMT "; or -t_final >= %g s)",
+             what, PetscMax(run->steps, 0), PetscMax(end, 0.0), run->step, (double)run->time, run->restart, run->step, (double)run->time);
+  else if (end > SCENE_MAX_T_FINAL * (1 + 1e-12))
+    snprintf(message, sizeof(message), "%s with a step of %g s ends the run at t = %g s: expected at most %g s of simulated time (more than 11 days)", what, (double)run->dt, end, SCENE_MAX_T_FINAL);
+  PetscCheck(!message[0], run->comm, PETSC_ERR_USER_INPUT, "%s", message);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode ClothRunResolveSteps(ClothRun run)
+{
+  PetscFunctionBeginUser;
+  if (run->steps == 0) PetscCall(ClothRunStepsFromFinalTime(run));
+  PetscCall(ClothRunCheckEnd(run));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -137,49 +137,52 @@ const char *const        SceneBodyTypes[]       = {"sphere", "plane", "mesh", "S
 /* The most particles a scene may have: the state vectors hold 3 coordinates per particle, indexed by PetscInt
    (32 bits in Debian's PETSc). Sizes are multiplied in 64 bits, so that a grid beyond it is named, not wrapped. */
 #define SCENE_MAX_PARTICLES ((PetscInt64)PETSC_MAX_INT / 3)
+/* The largest extent of a piece, m (size, and the coordinates of an outline): a kilometre is a unit mistake. */
+#define SCENE_MAX_PIECE_EXTENT 1e3
+/* The most segments of an arc boundary: its points are allocated before anything else (segments: 2147483647 ended in
+   the allocator); 100,000 segments put a vertex every 0.06 mm of a 1 m circle, far finer than any grid. */
+#define SCENE_MAX_ARC_SEGMENTS 100000
 #define SCENE_FNV_OFFSET UINT64_C(0xcbf29ce484222325)
 #define SCENE_FNV_PRIME UINT64_C(0x100000001b3)
 
-
-
-
-/* Densest sheet: 1 cm of steel, 78 kg/m^2 (fabrics: below 2). Stiffest sheet: 5 mm of steel, E t = 1e9 N/m
-   (fabrics: below 1e5 N/m). Friction coefficients of fabrics: below 2. */
+/* Densest sheet: 1 cm of steel, 78 kg/m^2 (fabrics: below 2); lightest: 1 g/m^2 (fabrics: 10 g/m^2, tulle, and more).
+   Stiffest sheet: 5 mm of steel, E t = 1e9 N/m (fabrics: below 1e5 N/m). Friction coefficients of fabrics: below 2. */
+/* clang-format off */
 static const SceneRealBound SceneRealBounds[] = {
-  {"",        "density",             100,  "a sheet denser than 1 cm of steel, 78 kg/m^2"                       },
-  {"",        "W",                   1e4,  "100 kg/m^2, a sheet denser than 1 cm of steel"                      },
-  {"",        "stretch",             1e9,  "stiffer than a 5 mm steel plate, E t = 1e9 N/m"                     },
-  {"",        "stretch_stiff",       1e9,  "stiffer than a 5 mm steel plate, E t = 1e9 N/m"                     },
-  {"",        "shear",               1e9,  "stiffer than a 5 mm steel plate, E t = 1e9 N/m"                     },
-  {"",        "bend",                1e9,  "as a link stiffness, stiffer than a 5 mm steel plate"               },
-  {"",        "damping",             1e6,  "a relaxation time below 1 microsecond"                              },
-  {"",        "repulsion_stiffness", 1e6,  "a million times the stretch stiffness"                              },
-  {"",        "static",              10,   "friction coefficients of fabrics are below 2"                       },
-  {"",        "kinetic",             10,   "friction coefficients of fabrics are below 2"                       },
-  {"",        "size",                1e3,  "a piece a kilometre across: a unit mistake"                         },
-  {"",        "radius",              1e3,  "a kilometre: a unit mistake"                                        },
-  {"body",    "thickness",           1,    "a contact shell a metre thick"                                      },
-  {"",        "dt",                  10,   "a cloth time step of more than 10 s"                                },
-  {"",        "t_final",             1e6,  "more than 11 days of simulated time"                                },
-  {"",        "gravity",             1e3,  "100 g"                                                              },
-  {"",        "center",              1e6,  "1000 km, the bound of mesh coordinates"                             },
-  {"",        "point",               1e6,  "1000 km, the bound of mesh coordinates"                             },
-  {"",        "origin",              1e6,  "1000 km, the bound of mesh coordinates"                             },
-  {"",        "translation",         1e6,  "1000 km, the bound of mesh coordinates"                             },
-  {"",        "axis_point",          1e6,  "1000 km, the bound of mesh coordinates"                             },
-  {"",        "apex",                1e6,  "1000 km, the bound of mesh coordinates"                             },
-  {"",        "scale",               1e3,  "a mesh scaled beyond metres from millimetres"                       },
-  {"self",    "stiffness",           1e9,  "stiffer than a 5 mm steel plate, E t = 1e9 N/m"                     },
-  {"sewing",  "pull_acceleration",   1e4,  "a pull of 1000 g"                                                   },
-  {"sewing",  "pull_radius",         10,   "a pull reaching 10 m"                                               },
-  {"sewing",  "sewn_stiffness",      1e9,  "stiffer than a 5 mm steel plate, E t = 1e9 N/m"                     },
-  {"sewing",  "tolerance",           1,    "pairs a metre apart counted as sewn"                                },
-  {"sewing",  "max_time",            1e6,  "more than 11 days of simulated time"                                },
-  {"sewing",  "pull_friction",       10,   "friction coefficients of fabrics are below 2"                       },
-  {NULL,      NULL,                  0,    NULL                                                                 }
+  {"",        "density",              100,                     "a sheet denser than 1 cm of steel, 78 kg/m^2",          1e-3,  "a sheet lighter than 1 g/m^2 (fabrics: 10 g/m^2 and more), an implicit system without mass"},
+  {"",        "W",                    1e4,                     "100 kg/m^2, a sheet denser than 1 cm of steel",         0.1,   "1 g/m^2, a sheet lighter than any fabric, an implicit system without mass"},
+  {"",        "EMT",                  PETSC_MAX_REAL,          NULL,                                                    1e-4,  "a strain of 1e-6 under the KES load of 500 gf/cm, a stretch modulus beyond 1e8 N/m"},
+  {"",        "stretch",              1e9,                     "stiffer than a 5 mm steel plate, E t = 1e9 N/m",        0,     NULL},
+  {"",        "stretch_stiff",        1e9,                     "stiffer than a 5 mm steel plate, E t = 1e9 N/m",        0,     NULL},
+  {"",        "shear",                1e9,                     "stiffer than a 5 mm steel plate, E t = 1e9 N/m",        0,     NULL},
+  {"",        "bend",                 1e9,                     "as a link stiffness, stiffer than a 5 mm steel plate",  0,     NULL},
+  {"",        "damping",              1e6,                     "a relaxation time below 1 microsecond",                 0,     NULL},
+  {"",        "repulsion_stiffness",  1e6,                     "a million times the stretch stiffness",                 0,     NULL},
+  {"",        "static",               10,                      "friction coefficients of fabrics are below 2",          0,     NULL},
+  {"",        "kinetic",              10,                      "friction coefficients of fabrics are below 2",          0,     NULL},
+  {"",        "size",                 SCENE_MAX_PIECE_EXTENT,  "a piece a kilometre across: a unit mistake",            0,     NULL},
+  {"",        "radius",               1e3,                     "a kilometre: a unit mistake",                           0,     NULL},
+  {"body",    "thickness",            1,                       "a contact shell a metre thick",                         0,     NULL},
+  {"",        "dt",                   SCENE_MAX_DT,            "a cloth time step of more than 10 s",                   0,     NULL},
+  {"",        "t_final",              SCENE_MAX_T_FINAL,       "more than 11 days of simulated time",                   0,     NULL},
+  {"",        "gravity",              1e3,                     "100 g",                                                 0,     NULL},
+  {"",        "center",               1e6,                     "1000 km, the bound of mesh coordinates",                0,     NULL},
+  {"",        "point",                1e6,                     "1000 km, the bound of mesh coordinates",                0,     NULL},
+  {"",        "origin",               1e6,                     "1000 km, the bound of mesh coordinates",                0,     NULL},
+  {"",        "translation",          1e6,                     "1000 km, the bound of mesh coordinates",                0,     NULL},
+  {"",        "axis_point",           1e6,                     "1000 km, the bound of mesh coordinates",                0,     NULL},
+  {"",        "apex",                 1e6,                     "1000 km, the bound of mesh coordinates",                0,     NULL},
+  {"",        "scale",                1e3,                     "a mesh scaled beyond metres from millimetres",          0,     NULL},
+  {"self",    "stiffness",            1e9,                     "stiffer than a 5 mm steel plate, E t = 1e9 N/m",        0,     NULL},
+  {"sewing",  "pull_acceleration",    1e4,                     "a pull of 1000 g",                                      0,     NULL},
+  {"sewing",  "pull_radius",          10,                      "a pull reaching 10 m",                                  0,     NULL},
+  {"sewing",  "sewn_stiffness",       1e9,                     "stiffer than a 5 mm steel plate, E t = 1e9 N/m",        0,     NULL},
+  {"sewing",  "tolerance",            1,                       "pairs a metre apart counted as sewn",                   0,     NULL},
+  {"sewing",  "max_time",             1e6,                     "more than 11 days of simulated time",                   0,     NULL},
+  {"sewing",  "pull_friction",        10,                      "friction coefficients of fabrics are below 2",          0,     NULL},
+  {NULL,      NULL,                   0,                       NULL,                                                    0,     NULL}
 };
-
-
+/* clang-format on */
 
 /* The particles of all pieces, counted in 64 bits. */
 static PetscInt64 SceneCountParticles(Scene scene)
@@ -230,7 +233,6 @@ PetscErrorCode SceneGetLargestSpacing(Scene scene, PetscReal *spacing)
   for (PetscInt p = 0; p < scene->npieces; p++) *spacing = PetscMax(*spacing, ScenePieceLargestSpacing(&scene->pieces[p]));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
-
 
 /* ------------------------------------------------------------------------------------------------------------ */
 /* Blocks                                                                                                       */
@@ -559,6 +561,23 @@ static PetscErrorCode ReadAxes(SceneReader *r, yaml_node_t *map, ScenePiece *pie
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* A boundary's vertices (read or made from an arc) lie within SCENE_MAX_PIECE_EXTENT of the pattern's origin, as a
+   piece's size does (an outline 1e27 m across ran), and span a positive length (else the grid is meshed from
+   nothing, refused later without the file or the line). */
+static PetscErrorCode CheckBoundaryPoints(SceneReader *r, yaml_node_t *node, const char key[], PetscInt npoints, const PetscReal points[])
+{
+  PetscReal length = 0;
+
+  PetscFunctionBeginUser;
+  for (PetscInt k = 0; k < npoints; k++)
+    if (PetscMax(PetscAbsReal(points[2 * k]), PetscAbsReal(points[2 * k + 1])) > SCENE_MAX_PIECE_EXTENT)
+      PetscCall(SceneFailValue(r, node, key, "a boundary whose vertices have coordinates of magnitude at most %g m (beyond: a piece a kilometre across, a unit mistake); vertex %" PetscInt_FMT " is (%g, %g)", SCENE_MAX_PIECE_EXTENT, k,
+                               (double)points[2 * k], (double)points[2 * k + 1]));
+  for (PetscInt k = 1; k < npoints; k++) length += PetscSqrtReal(PetscSqr(points[2 * k] - points[2 * k - 2]) + PetscSqr(points[2 * k + 1] - points[2 * k - 1]));
+  if (!(length > 0)) PetscCall(SceneFailValue(r, node, key, "a boundary of positive length; its %" PetscInt_FMT " vertices all lie at (%g, %g)", npoints, (double)points[0], (double)points[1]));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 /* One boundary: a polyline [[u, v], ...] of at least 2 vertices, or an arc {center, radius, from, to, segments}
    (angles in degrees, counter-clockwise from the u axis; the arc runs from `from` to `to`). */
 static PetscErrorCode ReadBoundary(SceneReader *r, yaml_node_t *map, const char key[], PetscInt *npoints, PetscReal **points)
@@ -578,7 +597,7 @@ static PetscErrorCode ReadBoundary(SceneReader *r, yaml_node_t *map, const char 
     PetscCall(SceneKeyReal(r, node, "radius", PETSC_TRUE, SCENE_REAL_POSITIVE, "m", &radius));
     PetscCall(SceneKeyReal(r, node, "from", PETSC_TRUE, SCENE_REAL_ANY, "degrees", &from));
     PetscCall(SceneKeyReal(r, node, "to", PETSC_TRUE, SCENE_REAL_ANY, "degrees", &to));
-    PetscCall(SceneKeyInt(r, node, "segments", PETSC_FALSE, 1, &segments));
+    PetscCall(SceneKeyIntInRange(r, node, "segments", PETSC_FALSE, 1, SCENE_MAX_ARC_SEGMENTS, &segments));
     *npoints = segments + 1;
     PetscCall(PetscMalloc1(2 * *npoints, points));
     for (PetscInt k = 0; k <= segments; k++) {
@@ -593,6 +612,7 @@ static PetscErrorCode ReadBoundary(SceneReader *r, yaml_node_t *map, const char 
     PetscCall(PetscMalloc1(2 * *npoints, points));
     for (PetscInt k = 0; k < *npoints; k++) PetscCall(SceneParseRealList(r, yaml_document_get_node(r->doc, items[k]), key, 2, SCENE_REAL_ANY, expected, &(*points)[2 * k]));
   }
+  PetscCall(CheckBoundaryPoints(r, node, key, *npoints, *points));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -971,6 +991,7 @@ static PetscErrorCode SceneReadSeamSide(SceneReader *r, yaml_node_t *seam, const
   PetscFunctionBeginUser;
   PetscCall(SceneGetValueChecked(r, seam, key, PETSC_TRUE, "a map {piece: NAME, side: bottom|right|top|left, from: 0, to: 1}", &map));
   PetscCall(SceneExpectMap(r, map, key, SceneSeamSideKeys, NULL));
+  side->line = SceneNodeLine(map);
   PetscCall(SceneKeyString(r, map, "piece", PETSC_TRUE, name, sizeof(name), &where));
   side->piece = -1;
   for (PetscInt p = 0; p < scene->npieces; p++) {
@@ -1003,6 +1024,37 @@ static PetscErrorCode SceneCheckSeamSidesApart(SceneReader *r, yaml_node_t *map,
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* The length of a seam side's stretch in the flat pattern, m: its fraction of the side's length (the outline's
+   boundary, or the rectangle's edge). */
+static PetscReal SceneSeamSideLength(Scene scene, const SceneSeamSide *side)
+{
+  const ScenePiece *piece  = &scene->pieces[side->piece];
+  PetscReal         length = 0;
+
+  if (!piece->has_boundaries)
+    length = piece->size[side->side == CLOTH_SIDE_BOTTOM || side->side == CLOTH_SIDE_TOP ? 0 : 1];
+  else {
+    const PetscReal *x = piece->boundary_points[side->side]; /* ClothPieceSide and the boundaries: one order */
+
+    for (PetscInt k = 1; k < piece->boundary_npoints[side->side]; k++) length += PetscSqrtReal(PetscSqr(x[2 * k] - x[2 * k - 2]) + PetscSqr(x[2 * k + 1] - x[2 * k - 1]));
+  }
+  return length * PetscAbsReal(side->to - side->from);
+}
+
+/* The two stretches of a seam have lengths within SCENE_SEAM_MAX_LENGTH_RATIO of each other. */
+static PetscErrorCode SceneCheckSeamLengths(SceneReader *r, yaml_node_t *map, Scene scene, const SceneSeam *seam)
+{
+  const PetscReal a = SceneSeamSideLength(scene, &seam->a), b = SceneSeamSideLength(scene, &seam->b);
+
+  PetscFunctionBeginUser;
+  if (PetscMax(a, b) <= SCENE_SEAM_MAX_LENGTH_RATIO * PetscMin(a, b)) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(SceneFailValue(r, map, NULL,
+                           "sides a and b whose lengths differ at most %d times (a gathered seam eases up to about 3 times its length); a (%s side of piece '%s', %g..%g) is %g m, b (%s side of piece '%s', %g..%g) is %g m: a unit mistake?",
+                           SCENE_SEAM_MAX_LENGTH_RATIO, ClothPieceSides[seam->a.side], scene->pieces[seam->a.piece].name, (double)seam->a.from, (double)seam->a.to, (double)a, ClothPieceSides[seam->b.side], scene->pieces[seam->b.piece].name,
+                           (double)seam->b.from, (double)seam->b.to, (double)b));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 static PetscErrorCode SceneReadSeams(SceneReader *r, yaml_node_t *root, Scene scene)
 {
   const char        expected[] = "a list of seams (maps with a, b and optionally name, bend)";
@@ -1013,8 +1065,8 @@ static PetscErrorCode SceneReadSeams(SceneReader *r, yaml_node_t *root, Scene sc
   PetscCall(SceneGetValue(r, root, "seams", &list));
   if (!list) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(SceneGetItems(r, list, "seams", -1, expected, &items, &scene->nseams));
-  PetscCheck(scene->nseams <= SCENE_MAX_SEAMS, r->comm, PETSC_ERR_USER_INPUT, "scene %s, line %d: key 'seams': expected at most %d seams (what a checkpoint stores exactly: the sewn seams of a particle are bits of a float64), got %" PetscInt_FMT, r->path,
-             SceneNodeLine(list), SCENE_MAX_SEAMS, scene->nseams);
+  PetscCheck(scene->nseams <= SCENE_MAX_SEAMS, r->comm, PETSC_ERR_USER_INPUT, "scene %s, line %d: key 'seams': expected at most %d seams (what a checkpoint stores exactly: the sewn seams of a particle are bits of a float64), got %" PetscInt_FMT,
+             r->path, SceneNodeLine(list), SCENE_MAX_SEAMS, scene->nseams);
   PetscCall(PetscCalloc1(scene->nseams, &scene->seams));
   for (PetscInt k = 0; k < scene->nseams; k++) {
     yaml_node_t *map  = yaml_document_get_node(r->doc, items[k]);
@@ -1028,6 +1080,7 @@ static PetscErrorCode SceneReadSeams(SceneReader *r, yaml_node_t *root, Scene sc
     PetscCall(SceneReadSeamSide(r, map, "a", scene, &seam->a));
     PetscCall(SceneReadSeamSide(r, map, "b", scene, &seam->b));
     PetscCall(SceneCheckSeamSidesApart(r, map, scene, seam));
+    PetscCall(SceneCheckSeamLengths(r, map, scene, seam));
     PetscCall(SceneKeyChoice(r, map, "bend", PETSC_FALSE, SceneBooleans, &bend));
     seam->bend = bend ? PETSC_TRUE : PETSC_FALSE;
   }
@@ -1161,7 +1214,6 @@ static PetscErrorCode SceneReadBytes(MPI_Comm comm, const char path[], char **by
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-
 /* Parses the bytes (the same on every rank) and reads the document into scene. */
 static PetscErrorCode SceneParse(MPI_Comm comm, const char bytes[], size_t len, Scene scene)
 {
@@ -1172,6 +1224,7 @@ static PetscErrorCode SceneParse(MPI_Comm comm, const char bytes[], size_t len, 
   PetscBool       more;
 
   PetscFunctionBeginUser;
+  PetscCall(SceneCheckNesting(comm, scene->path, bytes, len, SCENE_MAX_DEPTH)); /* before the loader, which would take hours */
   PetscCheck(yaml_parser_initialize(&parser), comm, PETSC_ERR_MEM, "libyaml could not create a parser");
   yaml_parser_set_input_string(&parser, (const unsigned char *)bytes, len);
   if (!yaml_parser_load(&parser, &doc)) {

@@ -132,6 +132,7 @@ typedef struct {
   PetscInt       piece;
   ClothPieceSide side;
   PetscReal      from, to;
+  int            line; /* of the side in the scene file, for messages */
 } SceneSeamSide;
 
 /* A seam (seams: list): two stretches sewn together (see seam.h). */
@@ -195,6 +196,14 @@ PetscErrorCode SceneGetLargestSpacing(Scene scene, PetscReal *spacing);
    significand); beyond, seams would come back from a restart unsewn or sewn wrongly. The sewing's own masks hold
    64 (SEWING_MAX_SEAMS). */
 #define SCENE_MAX_SEAMS 53
+/* The longest stretch of a seam may be at most this many times its shorter one: a gathered seam (a sleeve cap, a
+   ruffle) eases up to about 3 times its length onto the other side; beyond, the sides are a unit mistake (0.2 m
+   against 20 m was accepted and ended in a late warning that the sewing time ran out). */
+#define SCENE_SEAM_MAX_LENGTH_RATIO 4
+/* The longest time step and simulated time, s, of the scene's run: block and of -dt, -t_final and -steps: a cloth
+   step of more than 10 s, or more than 11 days of simulated time, is a unit mistake (-dt 1e9 -steps 3 ran). */
+#define SCENE_MAX_DT 10.0
+#define SCENE_MAX_T_FINAL 1e6
 /* Prints a short summary (pieces with grid and particle count, fabrics, gravity, run defaults) to an ASCII viewer
    (NULL: stdout of the scene's communicator). */
 PetscErrorCode SceneView(Scene scene, PetscViewer viewer);

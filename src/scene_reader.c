@@ -275,11 +275,13 @@ PetscErrorCode SceneParseReal(SceneReader *r, yaml_node_t *node, yaml_node_t *er
   if (range == SCENE_REAL_FRACTION) ok = (ok && x >= 0 && x < 1) ? PETSC_TRUE : PETSC_FALSE;
   if (!ok) PetscCall(SceneFailValue(r, errnode, key, "%s", expected));
   if (bound && PetscAbsReal((PetscReal)x) > bound->max) PetscCall(SceneFailValue(r, errnode, key, "%s, of magnitude at most %g (beyond: %s)", expected, (double)bound->max, bound->why));
+  if (bound && PetscAbsReal((PetscReal)x) < bound->min) PetscCall(SceneFailValue(r, errnode, key, "%s, of at least %g (below: %s)", expected, (double)bound->min, bound->why_min));
   *value = (PetscReal)x;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode SceneParseInt(SceneReader *r, yaml_node_t *node, yaml_node_t *errnode, const char key[], PetscInt min, const char expected[], PetscInt *value)
+/* An integer in [min, max] from a plain scalar; on failure as SceneParseReal. */
+static PetscErrorCode ParseIntInRange(SceneReader *r, yaml_node_t *node, yaml_node_t *errnode, const char key[], PetscInt min, PetscInt max, const char expected[], PetscInt *value)
 {
   const char *text = NULL;
   char       *end;
@@ -289,8 +291,15 @@ PetscErrorCode SceneParseInt(SceneReader *r, yaml_node_t *node, yaml_node_t *err
   PetscCall(SceneGetNumberText(r, node, errnode, key, expected, &text));
   errno = 0;
   x     = strtoll(text, &end, 10);
-  if (*end || errno || x < min || x > PETSC_MAX_INT) PetscCall(SceneFailValue(r, errnode, key, "%s", expected));
+  if (*end || errno || x < min || x > max) PetscCall(SceneFailValue(r, errnode, key, "%s", expected));
   *value = (PetscInt)x;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode SceneParseInt(SceneReader *r, yaml_node_t *node, yaml_node_t *errnode, const char key[], PetscInt min, const char expected[], PetscInt *value)
+{
+  PetscFunctionBeginUser;
+  PetscCall(ParseIntInRange(r, node, errnode, key, min, PETSC_MAX_INT, expected, value));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -360,15 +369,34 @@ PetscErrorCode SceneKeyDirection(SceneReader *r, yaml_node_t *map, const char ke
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode SceneKeyInt(SceneReader *r, yaml_node_t *map, const char key[], PetscBool required, PetscInt min, PetscInt *value)
+/* map[key] as an integer in [min, max], refused with expected. */
+static PetscErrorCode KeyIntInRange(SceneReader *r, yaml_node_t *map, const char key[], PetscBool required, PetscInt min, PetscInt max, const char expected[], PetscInt *value)
 {
-  char         expected[SCENE_TEXT_LEN];
   yaml_node_t *node;
 
   PetscFunctionBeginUser;
-  PetscCall(SceneExpectInt(0, min, expected, sizeof(expected)));
   PetscCall(SceneGetValueChecked(r, map, key, required, expected, &node));
-  if (node) PetscCall(SceneParseInt(r, node, node, key, min, expected, value));
+  if (node) PetscCall(ParseIntInRange(r, node, node, key, min, max, expected, value));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode SceneKeyInt(SceneReader *r, yaml_node_t *map, const char key[], PetscBool required, PetscInt min, PetscInt *value)
+{
+  char expected[SCENE_TEXT_LEN];
+
+  PetscFunctionBeginUser;
+  PetscCall(SceneExpectInt(0, min, expected, sizeof(expected)));
+  PetscCall(KeyIntInRange(r, map, key, required, min, PETSC_MAX_INT, expected, value));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode SceneKeyIntInRange(SceneReader *r, yaml_node_t *map, const char key[], PetscBool required, PetscInt min, PetscInt max, PetscInt *value)
+{
+  char expected[SCENE_TEXT_LEN];
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscSNPrintf(expected, sizeof(expected), "an integer >= %" PetscInt_FMT " and <= %" PetscInt_FMT, min, max));
+  PetscCall(KeyIntInRange(r, map, key, required, min, max, expected, value));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -409,7 +437,6 @@ PetscBool SceneNameIsSafe(const char name[])
     if (!isalnum((unsigned char)*c) && !strchr("_.+-", *c)) return PETSC_FALSE;
   return PETSC_TRUE;
 }
-
 
 /* A name that goes into the output files (SceneNameIsSafe); returns its node like SceneKeyString. */
 PetscErrorCode SceneKeyName(SceneReader *r, yaml_node_t *map, const char key[], PetscBool required, char buf[], size_t len, yaml_node_t **where)
@@ -463,6 +490,27 @@ PetscErrorCode SceneKeyChoice(SceneReader *r, yaml_node_t *map, const char key[]
     }
   }
   PetscCall(SceneFailValue(r, node, key, "%s", expected));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode SceneCheckNesting(MPI_Comm comm, const char path[], const char bytes[], size_t len, int max_depth)
+{
+  yaml_parser_t parser;
+  yaml_event_t  event;
+  int           depth = 0, line = 0, done = 0;
+
+  PetscFunctionBeginUser;
+  PetscCheck(yaml_parser_initialize(&parser), comm, PETSC_ERR_MEM, "libyaml could not create a parser");
+  yaml_parser_set_input_string(&parser, (const unsigned char *)bytes, len);
+  while (!done && depth <= max_depth && yaml_parser_parse(&parser, &event)) {
+    if (event.type == YAML_SEQUENCE_START_EVENT || event.type == YAML_MAPPING_START_EVENT) depth++;
+    if (event.type == YAML_SEQUENCE_END_EVENT || event.type == YAML_MAPPING_END_EVENT) depth--;
+    line = (int)event.start_mark.line + 1;
+    done = event.type == YAML_STREAM_END_EVENT;
+    yaml_event_delete(&event);
+  }
+  yaml_parser_delete(&parser);
+  PetscCheck(depth <= max_depth, comm, PETSC_ERR_USER_INPUT, "scene %s, line %d: lists and maps nested more than %d levels deep: expected at most %d levels (a scene needs 6)", path, line, max_depth, max_depth);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -26,11 +26,15 @@ typedef enum {
 
 /* An upper bound of the magnitude of a real key (in blocks whose name starts with block; "" any block): beyond it
    the value is no physical cloth scene but a typo or a unit mistake (1e308, mg for kg, mm for m), which would
-   overflow the arithmetic or throw the fabric; why says so in the message. docs/scene_format.md lists them. */
+   overflow the arithmetic or throw the fabric; why says so in the message. A positive key may also have a lower
+   bound min (0: none), below which it is as absurd (a density of 1e-300 kg/m^2 leaves the implicit system without
+   mass: the first Krylov solve fails), why_min saying so. docs/scene_format.md lists them. */
 typedef struct {
   const char *block, *key;
   PetscReal   max;
   const char *why;
+  PetscReal   min;
+  const char *why_min;
 } SceneRealBound;
 
 /* What is being read: the document, its file (for messages), the block being read and the bounds of its reals. */
@@ -121,6 +125,9 @@ PetscErrorCode SceneKeyDirection(SceneReader *r, yaml_node_t *map, const char ke
 /* An integer >= min. */
 PetscErrorCode SceneKeyInt(SceneReader *r, yaml_node_t *map, const char key[], PetscBool required, PetscInt min, PetscInt *value);
 
+/* An integer >= min and <= max: a count that sizes an allocation (an arc's segments) has an upper bound. */
+PetscErrorCode SceneKeyIntInRange(SceneReader *r, yaml_node_t *map, const char key[], PetscBool required, PetscInt min, PetscInt max, PetscInt *value);
+
 /* A list of count integers >= min. */
 PetscErrorCode SceneKeyIntList(SceneReader *r, yaml_node_t *map, const char key[], PetscBool required, PetscInt count, PetscInt min, PetscInt values[]);
 
@@ -140,6 +147,17 @@ PetscErrorCode SceneCheckNameUnique(SceneReader *r, yaml_node_t *node, const cha
 
 /* One of the names of a PETSc enum-style list (names..., type name, prefix, NULL); returns its index. */
 PetscErrorCode SceneKeyChoice(SceneReader *r, yaml_node_t *map, const char key[], PetscBool required, const char *const choices[], PetscInt *index);
+
+/* The deepest nesting of lists and maps a scene may have; a scene needs 6 (pieces, a piece, its boundaries, a
+   boundary, a point under the top-level map). */
+#define SCENE_MAX_DEPTH 32
+
+/* Errors (naming the file and the line) when the YAML bytes nest lists and maps more than max_depth levels deep.
+   libyaml's scanner takes time quadratic in the depth of flow collections ([[[...]]]: it checks every open level at
+   every token; measured 8.7 s for 40,000 levels, so about 1.5 hours for a million), while a document of that depth
+   cannot be a scene. The check reads libyaml's events, so it stops at the first level too deep, after O(max_depth^2)
+   work. A syntax error is left to the loader, which reports it. Collective on comm (every rank reads the same bytes). */
+PetscErrorCode SceneCheckNesting(MPI_Comm comm, const char path[], const char bytes[], size_t len, int max_depth);
 
 /* Fails with libyaml's description of a syntax error. */
 PetscErrorCode SceneFailSyntax(MPI_Comm comm, const char path[], yaml_parser_t *parser);

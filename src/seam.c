@@ -85,7 +85,10 @@ PetscErrorCode SeamSideCreate(const Scene scene, const SceneSeam *seam, const Sc
       last = k;
     }
   }
-  PetscCheck(first >= 0 && last > first, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "Seam '%s': the stretch %g..%g of piece '%s' (%s side) holds fewer than two nodes", seam->name, (double)side->from, (double)side->to, piece->name, ClothPieceSides[side->side]);
+  /* the grid decides (-grid N may change it after the scene was read): named with the file and the side's line */
+  PetscCheck(first >= 0 && last > first, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
+             "scene %s, line %d: seam '%s', side %s: the stretch %g..%g of the %s side of piece '%s' holds fewer than two of the side's %" PetscInt_FMT " nodes: expected from and to at least one node spacing apart (%g of the side), or a finer grid",
+             scene->path, side->line, seam->name, side == &seam->a ? "a" : "b", (double)side->from, (double)side->to, ClothPieceSides[side->side], piece->name, count, 1.0 / (double)(count - 1));
   out->n = last - first + 1;
   PetscCall(PetscMalloc3(out->n, &out->node, out->n, &out->inner, out->n, &out->t));
   for (PetscInt m = 0; m < out->n; m++) {

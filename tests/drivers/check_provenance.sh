@@ -1,7 +1,8 @@
 #!/bin/bash
 # Provenance in every HDF5 file a run writes (src/provenance.c): the series' NAME.h5 (root attributes) and the
-# checkpoint (/state attributes) carry the scene file's bytes exactly, its path, the run's options, the code version
-# and the git revision the binary was built from (the one the build wrote into generated/clothsim_revision.h).
+# checkpoint (/state attributes) carry the scene file's path, the code version and the git revision the binary was
+# built from (the one the build wrote into generated/clothsim_revision.h); both carry the scene file's bytes exactly
+# and the run's options as the datasets /provenance/scene_text and /provenance/options.
 # The run's identity (run_id) is the same in the series' .h5, the checkpoint, a comment of NAME.xdmf (which stays
 # valid XML: xmllint) and, for a scene with seams (tests/data/seam_two_pieces.yaml), quality.json.
 # Usage: check_provenance.sh MPIEXEC WORKDIR      (CLOTHSIM: the binary, CLOTHSIM_BUILD: its build directory)
@@ -18,10 +19,12 @@ import h5py
 series, checkpoint, scene, revision = sys.argv[1:5]
 text = open(scene, "rb").read().decode()
 for path, group in ((series, "/"), (checkpoint, "/state")):
-    attrs = {k: (v.decode() if isinstance(v, bytes) else str(v)) for k, v in h5py.File(path, "r")[group].attrs.items()}
-    checks = {"scene_text": attrs.get("scene_text") == text, "scene_path": attrs.get("scene_path") == scene,
+    f = h5py.File(path, "r")
+    attrs = {k: (v.decode() if isinstance(v, bytes) else str(v)) for k, v in f[group].attrs.items()}
+    texts = {k: f["provenance"][k][()].decode() for k in ("scene_text", "options") if k in f.get("provenance", {})}
+    checks = {"scene_text": texts.get("scene_text") == text, "scene_path": attrs.get("scene_path") == scene,
               "git_revision": attrs.get("git_revision") == revision, "code_version": bool(attrs.get("code_version")),
-              "options": "-grid 9" in attrs.get("options", "") and "-steps 3" in attrs.get("options", "")}
+              "options": "-grid 9" in texts.get("options", "") and "-steps 3" in texts.get("options", "")}
     bad = [k for k, ok in checks.items() if not ok]
     if bad:
         sys.exit(f"FAIL: {path}{group}: {bad} wrong or missing")

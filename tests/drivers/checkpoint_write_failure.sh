@@ -1,9 +1,8 @@
 #!/usr/bin/env bash
 # A disk that fills inside a checkpoint's HDF5 writes (issue 24, item 5), after the free-space check passed (as when
 # another job writes at the same time): tests/fault/fault_full_disk.c (LD_PRELOAD, path in $1) gives the temporary
-# checkpoint files of each process a budget of 300,000 bytes over the ranks (each writes its share), so that with the
-# 33 x 33 sheet the checkpoint of step 30 fails part-way with ENOSPC (measured with Open MPI's ROMIO, clothsim's
-# MPI-IO: those of steps 10 and 20 fit). On 1 and 2 ranks clothsim must stop with exit status 3 and one ERROR line
+# checkpoint files of each process a budget of bytes (budget_of below), so that with the 33 x 33 sheet the checkpoint of
+# step 30 fails part-way with ENOSPC (measured with Open MPI's ROMIO, clothsim's MPI-IO: those of steps 10 and 20 fit). On 1 and 2 ranks clothsim must stop with exit status 3 and one ERROR line
 # naming the temporary file, delete that file (no .tmp left), and keep the two checkpoints before it (steps 10 and 20,
 # -checkpoint_keep 2) complete; a restart from the newest must run on. The ERROR line gives the OS reason ("No space
 # left on device") when every rank's write returned; on 2 ranks a write that failed on one rank can instead leave
@@ -15,9 +14,14 @@ fault=${1:?usage: checkpoint_write_failure.sh LIBFAULT_FULL_DISK.so}
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 unset PETSC_OPTIONS
+# The budget per process on NP ranks, in the middle of the window measured (2026-11-29) where the checkpoints of steps 10
+# and 20 fit and that of step 30 fails: 360,000 to 520,000 bytes on 1 rank, 260,000 to 360,000 on 2. HDF5's metadata
+# flush writes a checkpoint this small twice over (ROMIO's data sieving: 176 kB written for an 86 kB file since its
+# provenance texts are datasets of /provenance, issue 48; 143 kB before, with a budget of 300,000 bytes over the ranks).
+budget_of() { [ "$1" -eq 1 ] && echo 440000 || echo 310000; }
 for np in 1 2; do
   dir=$out/np$np
-  log=$(CLOTH_FAULT_DISK_BYTES=$((300000 / np)) mpiexec -n $np -x LD_PRELOAD="$fault" -x CLOTH_FAULT_DISK_BYTES "$CLOTHSIM" -scene input/hanging_sheet.yaml -grid 33 -steps 100 \
+  log=$(CLOTH_FAULT_DISK_BYTES=$(budget_of $np) mpiexec -n $np -x LD_PRELOAD="$fault" -x CLOTH_FAULT_DISK_BYTES "$CLOTHSIM" -scene input/hanging_sheet.yaml -grid 33 -steps 100 \
     -checkpoint_every 10 -checkpoint_keep 2 -output_every 1000 -progress_seconds 100 -io_timeout 30 -output_dir "$dir" 2>&1)
   status=$?
   [ "$status" -eq 3 ] || { echo "$log" | tail -20; fail "$np rank(s): exit status $status, expected 3"; }
@@ -49,7 +53,7 @@ done
 # with exit status 3 naming the checkpoint, which it removes; the earlier checkpoints stay complete.
 for np in 1 2; do
   dir=$out/stall$np
-  log=$(CLOTH_FAULT_DISK_STALL=1 CLOTH_FAULT_DISK_BYTES=$((300000 / np)) mpiexec -n $np -x LD_PRELOAD="$fault" -x CLOTH_FAULT_DISK_BYTES -x CLOTH_FAULT_DISK_STALL "$CLOTHSIM" -scene input/hanging_sheet.yaml \
+  log=$(CLOTH_FAULT_DISK_STALL=1 CLOTH_FAULT_DISK_BYTES=$(budget_of $np) mpiexec -n $np -x LD_PRELOAD="$fault" -x CLOTH_FAULT_DISK_BYTES -x CLOTH_FAULT_DISK_STALL "$CLOTHSIM" -scene input/hanging_sheet.yaml \
     -grid 33 -steps 100 -checkpoint_every 10 -checkpoint_keep 2 -output_every 1000 -progress_seconds 100 -io_timeout 5 -output_dir "$dir" 2>&1)
   status=$?
   [ "$status" -eq 3 ] || { echo "$log" | tail -20; fail "hung file system, $np rank(s): exit status $status, expected 3"; }
