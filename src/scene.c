@@ -78,7 +78,7 @@ const char *const ClothBendModels[]        = {"link", "angle", "ClothBendModel",
 const char *const ClothMassDistributions[] = {"area", "uniform", "ClothMassDistribution", "CLOTH_MASS_", NULL};
 /* Written in the same PETSc enum-list style so that SceneKeyChoice treats every list of names alike; the integrator
    module owns the actual type. */
-static const char *const SceneIntegrators[] = {"explicit", "symplectic", "implicit", "SceneIntegrator", "SCENE_INTEGRATOR_", NULL};
+static const char *const SceneIntegrators[] = {"explicit", "symplectic", "implicit", "bdf2", "SceneIntegrator", "SCENE_INTEGRATOR_", NULL};
 
 /* Allowed keys per block (NULL-terminated). */
 static const char *const SceneTopKeys[]           = {"name", "gravity", "fabrics", "pieces", "run", "bodies", "self_collision", "seams", "sewing", NULL};
