@@ -40,7 +40,7 @@
          # from, to, segments}, nodes: [b, r, t, l]} (pattern.h); pin_disc: {center, radius}, pin_box: {min, max};
          # cut_disc: {center, radius}: only the cells whose centre lies in the disc are fabric (a grid cut by a circle)
      run:                             # optional defaults for run-level options (command-line options override)
-       integrator: implicit           # explicit | symplectic | implicit
+       integrator: implicit           # explicit | symplectic | implicit | bdf2
        dt: 0.004166666666666667       # s, > 0
        t_final: 1.0                   # s, > 0; or steps: 240 (integer >= 1), not both
        output_every: 24               # integer >= 1
