@@ -8,7 +8,8 @@
                 dt_start_time (float64), integrator, scene_name (string), scene_fingerprint,
                 nparticles, nranks (int64, the ranks that wrote it), code_version, git_revision
                 (string), checksum_method (string), info_checksum (uint64, see
-                CheckpointInfoChecksum), run_id (uint64, optional: the run that wrote it), complete
+                CheckpointInfoChecksum), run_id (uint64, optional: the run that wrote it), history_dt
+                (float64, optional: the step of bdf2's history in bdf2_history_*), complete
                 (int64 = 1, written last: the end marker). */
 #define _POSIX_C_SOURCE 200809L
 #include <dirent.h>
@@ -58,7 +59,8 @@ static uint64_t HashBytes(uint64_t h, const void *bytes, size_t n)
 }
 
 /* A checksum of the attributes that a restart takes over (step, time, dt, its start, integrator, scene
-   fingerprint and particle count), so that a damaged attribute is refused like damaged data. */
+   fingerprint, particle count and, when there is one, the history's step), so that a damaged attribute is refused like
+   damaged data. */
 static uint64_t CheckpointInfoChecksum(const ClothCheckpointInfo *info, PetscInt64 nparticles)
 {
   const double  reals[3] = {(double)info->time, (double)info->dt, (double)info->dt_start_time};
@@ -67,6 +69,10 @@ static uint64_t CheckpointInfoChecksum(const ClothCheckpointInfo *info, PetscInt
 
   h = HashBytes(h, reals, sizeof(reals));
   h = HashBytes(h, ints, sizeof(ints));
+  if (info->history_dt > 0) { /* only then written: files without it keep their checksum */
+    const double history_dt = (double)info->history_dt;
+    h                       = HashBytes(h, &history_dt, sizeof(history_dt));
+  }
   return HashBytes(h, info->integrator, strlen(info->integrator));
 }
 
@@ -140,6 +146,7 @@ static PetscErrorCode CheckpointWriteAttributes(MPI_Comm comm, hid_t state, cons
   PetscCall(ClothH5AttributeWriteInt64(state, "dt_start_step", info->dt_start_step));
   PetscCall(ClothH5AttributeWriteReal(state, "dt_start_time", info->dt_start_time));
   PetscCall(ClothH5AttributeWriteString(state, "integrator", info->integrator));
+  if (info->history_dt > 0) PetscCall(ClothH5AttributeWriteReal(state, "history_dt", info->history_dt));
   PetscCall(ClothH5AttributeWriteString(state, "scene_name", info->scene_name));
   PetscCall(ClothH5AttributeWriteInt64(state, "scene_fingerprint", info->scene_fingerprint));
   PetscCall(ClothH5AttributeWriteInt64(state, "nparticles", nparticles));
@@ -507,11 +514,14 @@ static PetscErrorCode CheckpointReadInfo(hid_t state, ClothCheckpointInfo *info,
   PetscCall(ClothH5AttributeReadInt64(state, "scene_fingerprint", &info->scene_fingerprint));
   PetscCall(ClothH5AttributeReadInt64(state, "nparticles", &info->nparticles));
   PetscCall(ClothH5AttributeReadUInt64(state, "info_checksum", &stored));
+  PetscCall(ClothH5AttributeExists(state, "history_dt", &exists));
+  info->history_dt = 0;
+  if (exists) PetscCall(ClothH5AttributeReadReal(state, "history_dt", &info->history_dt));
   PetscCall(ClothH5AttributeExists(state, "run_id", &exists));
   info->run_id = 0;
   if (exists) PetscCall(ClothH5AttributeReadUInt64(state, "run_id", &info->run_id));
   if (stored != CheckpointInfoChecksum(info, info->nparticles))
-    PetscCall(CheckpointRefuse(refusal, PETSC_ERR_FILE_READ, "is corrupt: its attributes step, time, dt, dt_start_step, dt_start_time, integrator, scene_fingerprint and nparticles do not match their checksum info_checksum"));
+    PetscCall(CheckpointRefuse(refusal, PETSC_ERR_FILE_READ, "is corrupt: its attributes step, time, dt, dt_start_step, dt_start_time, integrator, scene_fingerprint, nparticles and history_dt do not match their checksum info_checksum"));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

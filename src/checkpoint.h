@@ -2,7 +2,7 @@
 
    Layout (docs/checkpoint.md): /state/position and /state/velocity, (N, 3) float64 in
    natural (global particle) order, plus any further per-particle field a restart needs (the implicit
-   integrator's last velocity change, /state/implicit_dv); attributes on /state: step (int64), time
+   integrator's last velocity change, /state/implicit_dv, and bdf2's history); attributes on /state: step (int64), time
    (float64), and the rest of ClothCheckpointInfo. */
 #pragma once
 #include <stdint.h>
@@ -17,6 +17,7 @@ typedef struct {
   PetscInt64 dt_start_step;              /* step and time at which dt came into use: time = dt_start_time + dt (step - dt_start_step), */
   PetscReal  dt_start_time;              /* so a restarted run computes exactly the times of an uninterrupted one */
   char       integrator[CLOTH_NAME_LEN]; /* name of the integrator */
+  PetscReal  history_dt;                 /* the (sub-)step of the integrator's history (bdf2's last step; 0: none) */
   PetscInt64 scene_fingerprint;          /* Scene.fingerprint */
   char       scene_name[CLOTH_NAME_LEN];
   PetscInt64 nparticles;

@@ -47,11 +47,11 @@ static PetscErrorCode ClothIsStretchLink(const ClothLayout *layout, PetscInt a, 
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* The width of fabric a thread carries at natural particle a, across the direction along_u: the mean distance
-   to its neighbours across (the one neighbour on a piece's edge), at the initial positions. model.c's
-   ThreadWidth sets the stretch links' stiffness E w / l0 from the same width (there from the flat pattern: the
-   two differ by the chord-to-arc ratio on a piece wrapped round an arm, under 1 % at 20 particles round), so
-   that the stress of a link is E times its strain also on a piece's edge. */
+/* The width of fabric a thread carries at natural particle a, across the direction along_u, at the initial positions:
+   half the distance to each neighbour across (half a spacing on a piece's edge), or for a `mass: uniform` net the mean
+   distance (the one neighbour's on the edge). model.c's ThreadLinkWidth sets the stretch links' stiffness E w / l0 from
+   the same width (there from the flat pattern: the two differ by the chord-to-arc ratio on a piece wrapped round an
+   arm, under 1 % at 20 particles round), so that the stress of a link is E times its strain also on a piece's edge. */
 static PetscReal ClothThreadWidth(const ClothLayout *layout, PetscInt a, PetscBool along_u)
 {
   const ClothModel m     = layout->model;
@@ -59,8 +59,9 @@ static PetscReal ClothThreadWidth(const ClothLayout *layout, PetscInt a, PetscBo
   const PetscInt   nu = layout->scene->pieces[piece].nu, nv = layout->scene->pieces[piece].nv;
   const PetscInt   la = a - m->piece_offset[piece], i = la % nu, j = la / nu;
   const PetscInt   stride = along_u ? nu : 1, index = along_u ? j : i, count = along_u ? nv : nu;
-  PetscReal        sum = 0;
-  PetscInt         n   = 0;
+  const PetscBool  uniform = layout->scene->pieces[piece].mass_distribution == CLOTH_MASS_UNIFORM ? PETSC_TRUE : PETSC_FALSE;
+  PetscReal        sum     = 0;
+  PetscInt         n       = 0;
 
   for (PetscInt s = -1; s <= 1; s += 2) {
     PetscReal d[3];
@@ -70,7 +71,8 @@ static PetscReal ClothThreadWidth(const ClothLayout *layout, PetscInt a, PetscBo
     sum += PetscSqrtReal(Dot3(d, d));
     n++;
   }
-  return n ? sum / n : 0;
+  if (!n) return 0;
+  return uniform ? sum / n : 0.5 * sum;
 }
 
 /* The measure of one stretch link at positions xa, xb; wa, wb: the thread widths across it at its ends. */

@@ -61,6 +61,7 @@ struct _n_ClothCollision {
   PetscReal              friction_scale;                       /* the cloth's, read once per ClothCollisionApply */
   ClothCollisionFriction friction;                             /* where friction of held contacts acts */
   PetscReal              friction_velocity, stribeck_velocity; /* eps_v and v_s of the regularised law, m/s */
+  PetscReal              stick_velocity;                       /* implicit friction: held particles slower than this may stick, m/s (< 0: 20 eps_v) */
   PetscBool              friction_solved;                      /* the step just taken had the friction of held contacts in its solve */
   PetscReal             *vt_start;                             /* per owned particle held in that solve: its tangential velocity at the step's start */
   PetscBool              verify, view, setup;
@@ -342,6 +343,27 @@ static void StopReversedSlip(const PetscReal vt_start[3], const PetscReal n[3], 
   for (PetscInt k = 0; k < 3; k++) v[k] = vn * n[k];
 }
 
+/* Static friction that holds (implicit friction; docs/collisions.md, "Static friction that holds"): a particle pressed
+   onto the body (F.n < 0) whose tangential velocity is below the stick velocity and whose tangential force static
+   friction can cancel, |F_t| <= mu_s |F.n| (F the particle's force without friction at the step's start, as for the
+   release), sticks: the next solve holds it still (S = 0), where the regularised law alone would let it creep at
+   eps_v |F_t| / sqrt((mu_s |F.n|)^2 - |F_t|^2). Every step decides again, so it slides as soon as its neighbours or
+   gravity pull harder than mu_s |F.n|. The stick velocity lies above every steady creep of the regularised law (at
+   most about 10 eps_v at the defaults), so a creeping particle sticks, and far below real sliding. */
+static PetscReal StickVelocity(const ClothCollision col)
+{
+  return col->stick_velocity < 0 ? 20 * col->friction_velocity : col->stick_velocity;
+}
+
+static PetscBool StaticFrictionHolds(const ClothCollision col, const SceneBody *d, const PetscReal n[3], PetscReal fn, const PetscReal ft[3], const PetscScalar v[3])
+{
+  const PetscReal vn = Dot3(v, n);
+  PetscReal       vt[3];
+
+  for (PetscInt k = 0; k < 3; k++) vt[k] = v[k] - vn * n[k];
+  return (fn < 0 && StickVelocity(col) > 0 && Dot3(vt, vt) <= PetscSqr(StickVelocity(col)) && PetscSqrtReal(Dot3(ft, ft)) <= col->friction_scale * d->friction_static * (-fn)) ? PETSC_TRUE : PETSC_FALSE;
+}
+
 /* The first triangle of mesh cm that the segment p0 -> p1 crosses from the outside, by the chosen search. */
 static void SearchSegment(ClothCollision col, CollisionMesh *cm, const PetscReal p0[3], const PetscReal p1[3], SegmentHit *hit)
 {
@@ -569,8 +591,10 @@ static PetscErrorCode ContactParticle(ClothCollision col, PetscInt i, PetscReal 
     StopReversedSlip(&col->vt_start[3 * i], contact.normal, col->friction_velocity, v);
   } else /* an impact: Coulomb's impulse, bounded by the normal velocity the contact removed */
     (void)RespondVelocity(d, col->friction_scale, contact.normal, 0, 0, v);
-  /* The step moved the particle by h v_{n+1} (both Euler forms that hold contacts do): redo the tangential
-     part with the velocity friction left, or a stuck particle would still creep by h^2 a_t every step. */
+  if (col->friction_solved) stuck = StaticFrictionHolds(col, d, contact.normal, fn, ft, v);
+  /* The step moved the particle by h v_{n+1} (both Euler forms that hold contacts do; BDF2 by 2h/3 v_{n+1} plus its
+     history's part, the same to within its 3/2): redo the tangential part with the velocity friction left, or a stuck
+     particle would still creep by h^2 a_t every step. */
   for (PetscInt k = 0; k < 3; k++) dv[k] += v[k];
   dvn = Dot3(dv, contact.normal);
   PetscCall(RecordNormalForce(col, i, mass, fn, dvn, h));
@@ -606,6 +630,7 @@ PetscErrorCode ClothCollisionCreate(Cloth cloth, Scene scene, ClothCollision *co
   col->friction          = CLOTH_COLLISION_FRICTION_IMPLICIT;
   col->friction_velocity = 1e-4; /* creep of a stuck particle: at most a few eps_v (docs/collisions.md) */
   col->stribeck_velocity = 1e-2;
+  col->stick_velocity    = -1; /* 20 eps_v, once eps_v is known */
   *collision             = col;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -634,6 +659,8 @@ PetscErrorCode ClothCollisionSetVerify(ClothCollision col, PetscBool verify)
 
 PetscErrorCode ClothCollisionSetFromOptions(ClothCollision col)
 {
+  PetscBool stick_set;
+
   PetscFunctionBeginUser;
   PetscOptionsBegin(col->comm, NULL, "Collisions with rigid bodies", "ClothCollision");
   PetscCall(PetscOptionsEnum("-collision_search", "How segments find the triangles they may cross", "ClothCollisionSetSearch", ClothCollisionSearches, (PetscEnum)col->search, (PetscEnum *)&col->search, NULL));
@@ -649,7 +676,11 @@ PetscErrorCode ClothCollisionSetFromOptions(ClothCollision col)
                              &col->friction_velocity, NULL));
   PetscCall(PetscOptionsReal("-collision_friction_stribeck_velocity", "Implicit friction: the coefficient falls from static to kinetic as exp(-(|v_t|/v_s)^2), v_s in m/s (0: kinetic only)", "ClothCollisionSetFromOptions", col->stribeck_velocity,
                              &col->stribeck_velocity, NULL));
+  PetscCall(PetscOptionsReal("-collision_friction_stick_velocity",
+                             "Implicit friction: a held particle slower than this (m/s) whose tangential force static friction can hold is held still (default 20 times eps_v; 0: never, the regularised law alone)", "ClothCollisionSetFromOptions",
+                             col->stick_velocity, &col->stick_velocity, &stick_set));
   PetscOptionsEnd();
+  if (stick_set) PetscCall(ClothOptionsCheckReal(col->comm, "-collision_friction_stick_velocity", col->stick_velocity, 0, PETSC_FALSE, PETSC_MAX_REAL, "m/s"));
   PetscCall(ClothOptionsCheckReal(col->comm, "-collision_friction_velocity", col->friction_velocity, 0, PETSC_TRUE, PETSC_MAX_REAL, "m/s"));
   PetscCall(ClothOptionsCheckReal(col->comm, "-collision_friction_stribeck_velocity", col->stribeck_velocity, 0, PETSC_FALSE, PETSC_MAX_REAL, "m/s"));
   PetscCall(ClothOptionsCheckReal(col->comm, "-collision_cell_size", col->cell_size, 0, PETSC_FALSE, PETSC_MAX_REAL, "m"));
@@ -1010,7 +1041,8 @@ PetscErrorCode ClothCollisionView(ClothCollision col, PetscViewer viewer)
   if (col->cell_size > 0) PetscCall(PetscViewerASCIIPrintf(viewer, "%g m", (double)col->cell_size));
   PetscCall(PetscViewerASCIIPrintf(viewer, "%s\n", col->verify ? ", verified against brute force" : ""));
   if (col->friction == CLOTH_COLLISION_FRICTION_IMPLICIT)
-    PetscCall(PetscViewerASCIIPrintf(viewer, "Friction of held contacts: implicit (regularised Coulomb, eps_v %g m/s, Stribeck velocity %g m/s)\n", (double)col->friction_velocity, (double)col->stribeck_velocity));
+    PetscCall(PetscViewerASCIIPrintf(viewer, "Friction of held contacts: implicit (regularised Coulomb, eps_v %g m/s, Stribeck velocity %g m/s; held still below %g m/s where static friction holds)\n", (double)col->friction_velocity,
+                                     (double)col->stribeck_velocity, (double)StickVelocity(col)));
   else
     PetscCall(PetscViewerASCIIPrintf(viewer, "Friction of held contacts: explicit (velocity filter after the step)\n"));
   PetscCall(PetscViewerASCIIPushTab(viewer));

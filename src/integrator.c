@@ -38,6 +38,16 @@ struct _n_ClothIntegrator {
   char                failure[256];      /* why the last failed (sub-)step failed */
   PetscInt            pc_retries;        /* solves redone after a rebuild of a preconditioner kept from earlier steps */
   PetscInt            max_it;            /* the Krylov solve's iteration limit (-ksp_max_it) */
+  /* bdf2 only (StepBDF2): the last (sub-)step's history. rate = (x_n - x_{n-1}) / h and v_{n-1}, both as the solve left
+     them, before the contact responses: those moved x_n and v_n by jumps that the history takes over, so that an
+     impact neither bounces back nor pushes on. history_dt: the (sub-)step they belong to; 0: none. */
+  Vec       history_rate, history_velocity;
+  PetscReal history_dt;
+  PetscBool history_pending;                            /* the sub-step just taken left history_velocity at v_n - v_{n+1} */
+  Vec       start_history_rate, start_history_velocity; /* the history at the step's start, put back when it fails */
+  PetscReal start_history_dt;
+  Vec       extrapolated, work; /* x_n + h/3 S rate, where BDF2 linearises; the extra right-hand side, then w */
+  PetscInt  order_steps[2];     /* sub-steps taken as BDF1 (no history of their size) and as BDF2 */
 };
 
 /* Is every entry of v finite? Collective. */
@@ -229,23 +239,120 @@ static PetscErrorCode DescribeFailedSolve(ClothIntegrator integ, KSPConvergedRea
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* Linearised backward Euler: (M + h C + h^2 K) dv = h (F - h K v), filtered; v += dv; x += h v. */
-static PetscErrorCode StepImplicit(ClothIntegrator integ, PetscReal h, PetscBool *ok, PetscInt *its)
+/* Assembles the linearised system of step size h at (x, v) (plus extra, already filtered, on its right-hand side when
+   given) and solves it for integ->dv; *ok is false when the solve failed or dv is not finite. */
+static PetscErrorCode AssembleAndSolve(ClothIntegrator integ, PetscReal h, Vec x, Vec v, Vec extra, PetscBool *ok, PetscInt *its)
 {
-  Vec                x, v;
   KSPConvergedReason reason;
 
   PetscFunctionBeginUser;
-  PetscCall(ClothGetState(integ->cloth, &x, &v));
   PetscCall(ClothAssembleImplicitSystem(integ->cloth, h, x, v, integ->A, integ->rhs));
+  if (extra) PetscCall(VecAXPY(integ->rhs, 1.0, extra));
   PetscCall(SolveImplicitSystem(integ, x, h, &reason, its));
   *ok = reason > 0 ? PETSC_TRUE : PETSC_FALSE;
   if (!*ok) PetscCall(DescribeFailedSolve(integ, reason, *its));
   if (*ok) PetscCall(VecIsFinite(integ->dv, ok));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Linearised backward Euler: (M + h C + h^2 K) dv = h (F - h K v), filtered; v += dv; x += h v. */
+static PetscErrorCode StepImplicit(ClothIntegrator integ, PetscReal h, PetscBool *ok, PetscInt *its)
+{
+  Vec x, v;
+
+  PetscFunctionBeginUser;
+  PetscCall(ClothGetState(integ->cloth, &x, &v));
+  PetscCall(AssembleAndSolve(integ, h, x, v, NULL, ok, its));
   if (!*ok) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(VecAXPY(v, 1.0, integ->dv));
   PetscCall(FilterSelfContact(integ, h, v));
   PetscCall(VecAXPY(x, h, v));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* BDF2's two history terms at the step's start (docs/model.md section 5): x~ = x_n + h/3 S rate into integ->extrapolated
+   (the constraints filter the extrapolation as they filter every motion) and S M (v_n - v_{n-1}) / 3 into integ->work. */
+static PetscErrorCode BDF2HistoryTerms(ClothIntegrator integ, PetscReal h, Vec x, Vec v)
+{
+  const PetscReal *mass;
+  PetscInt         nlocal;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecCopy(integ->history_rate, integ->work));
+  PetscCall(ClothApplyConstraints(integ->cloth, integ->work));
+  PetscCall(VecWAXPY(integ->extrapolated, h / 3, integ->work, x));
+  PetscCall(VecWAXPY(integ->work, -1.0, integ->history_velocity, v));
+  PetscCall(ClothGetMasses(integ->cloth, &mass, NULL));
+  PetscCall(ClothGetSizes(integ->cloth, &nlocal, NULL));
+  {
+    PetscScalar *a;
+    PetscCall(VecGetArray(integ->work, &a));
+    for (PetscInt i = 0; i < nlocal; i++)
+      for (PetscInt c = 0; c < 3; c++) a[3 * i + c] *= mass[i] / 3;
+    PetscCall(VecRestoreArray(integ->work, &a));
+  }
+  PetscCall(ClothApplyConstraints(integ->cloth, integ->work));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Second-order backward differentiation (BDF2) in velocity form, linearised at x~ = x_n + h/3 S rate (docs/model.md
+   section 5): with b = 2h/3 the backward-Euler system of step b at (x~, v_n),
+     (M + b C + b^2 K) dv = b (F(x~, v_n) - b K v_n) + M (v_n - v_{n-1}) / 3,  v_{n+1} = v_n + dv,  x_{n+1} = x~ + b v_{n+1},
+   the same assembly, preconditioner and contact handling as StepImplicit. Without a history of this very step size (the
+   first step, a halved step's first half, the step after it, a restart without one) it is backward Euler (BDF1):
+   x~ = x_n, b = h, no history term. The cloth-cloth impulses act on w = (x_{n+1} - x_n) / h, the velocity over the
+   step that their gap check assumes, and change v_{n+1} by as much. */
+static PetscErrorCode StepBDF2(ClothIntegrator integ, PetscReal h, PetscBool *ok, PetscInt *its)
+{
+  const PetscBool  second = integ->history_dt == h ? PETSC_TRUE : PETSC_FALSE;
+  const PetscReal  b      = second ? 2 * h / 3 : h;
+  ClothSelfContact sc;
+  Vec              x, v;
+
+  PetscFunctionBeginUser;
+  PetscCall(ClothGetState(integ->cloth, &x, &v));
+  if (second)
+    PetscCall(BDF2HistoryTerms(integ, h, x, v));
+  else
+    PetscCall(VecCopy(x, integ->extrapolated));
+  PetscCall(AssembleAndSolve(integ, b, integ->extrapolated, v, second ? integ->work : NULL, ok, its));
+  if (!*ok) PetscFunctionReturn(PETSC_SUCCESS);
+  integ->order_steps[second ? 1 : 0]++;
+  /* the new history, as the solve leaves it: rate = (x_pre - x_n) / h, and v_n - v_pre (v_{n+1} added after the responses) */
+  PetscCall(VecAXPY(integ->extrapolated, b, v));
+  PetscCall(VecAXPY(integ->extrapolated, b, integ->dv)); /* x_pre = x~ + b (v_n + dv) */
+  PetscCall(VecWAXPY(integ->history_rate, -1.0, x, integ->extrapolated));
+  PetscCall(VecScale(integ->history_rate, 1.0 / h));
+  PetscCall(VecCopy(integ->dv, integ->history_velocity));
+  PetscCall(VecScale(integ->history_velocity, -1.0));
+  integ->history_pending = PETSC_TRUE;
+  PetscCall(VecAXPY(v, 1.0, integ->dv));
+  PetscCall(ClothGetSelfContact(integ->cloth, &sc));
+  if (!sc) {
+    PetscCall(VecCopy(integ->extrapolated, x));
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
+  PetscCall(VecCopy(integ->history_rate, integ->work)); /* w, filtered by the impulses; v_{n+1} changes as w does */
+  PetscCall(VecAXPY(v, -1.0, integ->work));
+  PetscCall(FilterSelfContact(integ, h, integ->work));
+  PetscCall(VecAXPY(v, 1.0, integ->work));
+  PetscCall(VecAXPY(x, h, integ->work));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* After a successful bdf2 sub-step and its contact responses: the history's velocity becomes v_n moved by the jump the
+   responses gave v_{n+1}, v_n + (v_{n+1} - v_pre) = v_{n+1} - dv, so that the next step sees no velocity change of
+   theirs. */
+static PetscErrorCode FinishHistory(ClothIntegrator integ, PetscReal h)
+{
+  Vec v;
+
+  PetscFunctionBeginUser;
+  if (!integ->history_pending) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(ClothGetState(integ->cloth, NULL, &v));
+  PetscCall(VecAXPY(integ->history_velocity, 1.0, v));
+  integ->history_dt      = h;
+  integ->history_pending = PETSC_FALSE;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -261,6 +368,7 @@ PetscErrorCode ClothIntegratorCreate(Cloth cloth, ClothIntegrator *integ)
   PetscCall(PetscFunctionListAdd(&it->steps, "explicit", StepExplicit));
   PetscCall(PetscFunctionListAdd(&it->steps, "symplectic", StepSymplectic));
   PetscCall(PetscFunctionListAdd(&it->steps, "implicit", StepImplicit));
+  PetscCall(PetscFunctionListAdd(&it->steps, "bdf2", StepBDF2));
   PetscCall(ClothIntegratorSetType(it, "implicit"));
   *integ = it;
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -272,7 +380,7 @@ PetscErrorCode ClothIntegratorSetType(ClothIntegrator integ, const char type[])
 
   PetscFunctionBeginUser;
   PetscCall(PetscFunctionListFind(integ->steps, type, &step));
-  PetscCheck(step, integ->comm, PETSC_ERR_USER_INPUT, "Unknown integrator '%s': expected explicit, symplectic or implicit", type);
+  PetscCheck(step, integ->comm, PETSC_ERR_USER_INPUT, "Unknown integrator '%s': expected explicit, symplectic, implicit or bdf2", type);
   PetscCheck(!integ->setup, integ->comm, PETSC_ERR_ORDER, "Set the integrator type before ClothIntegratorSetUp");
   integ->step = step;
   PetscCall(PetscStrncpy(integ->type, type, sizeof(integ->type)));
@@ -340,7 +448,11 @@ PetscErrorCode ClothIntegratorSetUp(ClothIntegrator integ)
   PetscCall(ClothCreateStateVec(integ->cloth, &integ->force));
   PetscCall(ClothCreateStateVec(integ->cloth, &integ->start_position));
   PetscCall(ClothCreateStateVec(integ->cloth, &integ->start_velocity));
-  if (integ->step == StepImplicit) PetscCall(ClothIntegratorSetUpImplicit(integ));
+  if (integ->step == StepImplicit || integ->step == StepBDF2) PetscCall(ClothIntegratorSetUpImplicit(integ));
+  if (integ->step == StepBDF2) {
+    Vec *vecs[] = {&integ->history_rate, &integ->history_velocity, &integ->start_history_rate, &integ->start_history_velocity, &integ->extrapolated, &integ->work};
+    for (size_t k = 0; k < PETSC_STATIC_ARRAY_LENGTH(vecs); k++) PetscCall(ClothCreateStateVec(integ->cloth, vecs[k]));
+  }
   integ->setup = PETSC_TRUE;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -394,17 +506,36 @@ static PetscErrorCode StepOrHalve(ClothIntegrator integ, PetscReal h, PetscInt d
   if (*ok) {
     stats->substeps++;
     if (integ->collision) PetscCall(ClothCollisionApply(integ->collision, saved_x, h)); /* contacts of this sub-step */
+    PetscCall(FinishHistory(integ, h));
     PetscFunctionReturn(PETSC_SUCCESS);
   }
   PetscCall(VecCopy(saved_x, x));
   PetscCall(VecCopy(saved_v, v));
   PetscCall(RestoreInternalState(integ, CLOTH_SLOT_ATTEMPT));
   if (integ->dv) PetscCall(VecZeroEntries(integ->dv));
+  integ->history_pending = PETSC_FALSE; /* an attempt that failed leaves the history alone */
   if (depth >= integ->max_halvings) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(PetscInfo(NULL, "Step of %g s failed; retrying as two steps of %g s\n", (double)h, (double)(h / 2)));
   for (PetscInt half = 0; half < 2; half++) {
     PetscCall(StepOrHalve(integ, h / 2, depth + 1, ok, stats));
     if (!*ok) break;
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The bdf2 history saved at a step's start (save) or put back after the step failed (!save); nothing for other types. */
+static PetscErrorCode CopyHistory(ClothIntegrator integ, PetscBool save)
+{
+  PetscFunctionBeginUser;
+  if (!integ->history_rate) PetscFunctionReturn(PETSC_SUCCESS);
+  if (save) {
+    PetscCall(VecCopy(integ->history_rate, integ->start_history_rate));
+    PetscCall(VecCopy(integ->history_velocity, integ->start_history_velocity));
+    integ->start_history_dt = integ->history_dt;
+  } else {
+    PetscCall(VecCopy(integ->start_history_rate, integ->history_rate));
+    PetscCall(VecCopy(integ->start_history_velocity, integ->history_velocity));
+    integ->history_dt = integ->start_history_dt;
   }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -421,12 +552,14 @@ PetscErrorCode ClothIntegratorStep(ClothIntegrator integ, PetscReal dt, PetscBoo
   PetscCall(VecCopy(v, integ->start_velocity));
   PetscCall(SaveInternalState(integ, CLOTH_SLOT_STEP));
   if (integ->dv) PetscCall(VecCopy(integ->dv, integ->start_dv));
+  PetscCall(CopyHistory(integ, PETSC_TRUE));
   PetscCall(StepOrHalve(integ, dt, 0, ok, &s));
   if (!*ok) { /* a failed half-step sequence may have advanced part of the way: go back to the start, all of it */
     PetscCall(VecCopy(integ->start_position, x));
     PetscCall(VecCopy(integ->start_velocity, v));
     PetscCall(RestoreInternalState(integ, CLOTH_SLOT_STEP));
     if (integ->dv) PetscCall(VecCopy(integ->start_dv, integ->dv)); /* the warm start too: a checkpoint now is step n's */
+    PetscCall(CopyHistory(integ, PETSC_FALSE));
   }
   if (stats) *stats = s;
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -437,6 +570,25 @@ PetscErrorCode ClothIntegratorGetWarmStart(ClothIntegrator integ, Vec *dv)
   PetscFunctionBeginUser;
   PetscCheck(integ->setup, integ->comm, PETSC_ERR_ORDER, "Call ClothIntegratorSetUp before ClothIntegratorGetWarmStart");
   *dv = integ->dv;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothIntegratorGetHistory(ClothIntegrator integ, Vec *rate, Vec *velocity, PetscReal *dt)
+{
+  PetscFunctionBeginUser;
+  PetscCheck(integ->setup, integ->comm, PETSC_ERR_ORDER, "Call ClothIntegratorSetUp before ClothIntegratorGetHistory");
+  if (rate) *rate = integ->history_rate;
+  if (velocity) *velocity = integ->history_velocity;
+  if (dt) *dt = integ->history_dt;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothIntegratorSetHistoryStep(ClothIntegrator integ, PetscReal dt)
+{
+  PetscFunctionBeginUser;
+  PetscCheck(integ->history_rate || dt == 0, integ->comm, PETSC_ERR_ORDER, "Integrator %s keeps no history: set it up as bdf2 first", integ->type);
+  PetscCheck(dt >= 0 && PetscIsNormalReal(dt + 1), integ->comm, PETSC_ERR_ARG_OUTOFRANGE, "History step %g: expected 0 (none) or a step size", (double)dt);
+  integ->history_dt = dt;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -502,6 +654,7 @@ PetscErrorCode ClothIntegratorView(ClothIntegrator integ, PetscViewer viewer)
 {
   PetscFunctionBeginUser;
   PetscCall(PetscViewerASCIIPrintf(viewer, "Integrator: %s (a failing step is halved up to %" PetscInt_FMT " times)\n", integ->type, integ->max_halvings));
+  if (integ->step == StepBDF2) PetscCall(PetscViewerASCIIPrintf(viewer, "Sub-steps taken as BDF2: %" PetscInt_FMT ", as backward Euler (no history of their size): %" PetscInt_FMT "\n", integ->order_steps[1], integ->order_steps[0]));
   if (integ->ksp) {
     PetscCall(PetscViewerASCIIPushTab(viewer));
     PetscCall(KSPView(integ->ksp, viewer));
@@ -538,6 +691,12 @@ PetscErrorCode ClothIntegratorDestroy(ClothIntegrator *integ)
   PetscCall(VecDestroy(&it->start_dv));
   PetscCall(VecDestroy(&it->rhs));
   PetscCall(VecDestroy(&it->dv));
+  PetscCall(VecDestroy(&it->history_rate));
+  PetscCall(VecDestroy(&it->history_velocity));
+  PetscCall(VecDestroy(&it->start_history_rate));
+  PetscCall(VecDestroy(&it->start_history_velocity));
+  PetscCall(VecDestroy(&it->extrapolated));
+  PetscCall(VecDestroy(&it->work));
   PetscCall(PetscFree(*integ));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -1,7 +1,9 @@
 /* ClothIntegrator: advances the cloth by one step (docs/model.md section 5).
 
    Types, chosen by name (-integrator): explicit (forward Euler), symplectic (semi-implicit Euler),
-   implicit (linearised backward Euler, Baraff & Witkin 1998, solved with PETSc KSP). A step that
+   implicit (linearised backward Euler, Baraff & Witkin 1998, solved with PETSc KSP), bdf2 (linearised second-order
+   backward differentiation in velocity form, Choi & Ko 2002: the same system with step 2h/3 and a history term;
+   backward Euler on a step without a history of its size). A step that
    fails (Krylov divergence, a non-finite state) is retried as two half steps, recursively, up to
    -integrator_max_halvings times; the step count and time stay those of the nominal step. */
 #pragma once
@@ -31,6 +33,12 @@ PetscErrorCode ClothIntegratorStep(ClothIntegrator integ, PetscReal dt, PetscBoo
    (solver numbering, borrowed; after ClothIntegratorSetUp). *dv is NULL for the other types, which
    keep no state between steps. A bit-for-bit restart saves and restores it. */
 PetscErrorCode ClothIntegratorGetWarmStart(ClothIntegrator integ, Vec *dv);
+/* The bdf2 history (borrowed; solver numbering; after ClothIntegratorSetUp): rate = (x_n - x_{n-1}) / dt and v_{n-1}
+   of the last (sub-)step, as its solve left them, and that sub-step's size dt (0: no history; the next step is then
+   backward Euler). NULL and 0 for the other types. A bit-for-bit restart saves and restores all three. */
+PetscErrorCode ClothIntegratorGetHistory(ClothIntegrator integ, Vec *rate, Vec *velocity, PetscReal *dt);
+/* Declares the history Vecs (filled by the caller, e.g. from a checkpoint) as that of a sub-step of dt (0: none). */
+PetscErrorCode ClothIntegratorSetHistoryStep(ClothIntegrator integ, PetscReal dt);
 /* One line on the implicit system: matrix type, stored blocks and their memory, preconditioner (nothing for
    explicit integrators); for a multilevel preconditioner how often it was rebuilt, refreshed or kept; with
    -integrator_view the whole ClothIntegratorView. */

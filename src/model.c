@@ -48,10 +48,10 @@ static PetscReal ThreadWidth(const PieceContext *pc, PetscInt i, PetscInt j, Pet
 }
 
 /* The strip of fabric a thread owns at node (i, j): half the distance to each neighbouring parallel thread, so
-   that a thread on the piece's edge owns half a spacing and the widths add up to the piece's width. The angle
-   bending model needs it because its B is a rigidity per unit width of real fabric (with ThreadWidth a strip of
-   3 threads would bend like 3 full spacings instead of 2, 1.5 times too stiff); the link models keep the
-   paper's per-link coefficients (ThreadWidth), which the hanging-sheet benchmark shares with its peers. */
+   that a thread on the piece's edge owns half a spacing and the widths add up to the piece's width, as the
+   particles' masses do (a quarter of each cell). The rigidities E, B are per unit width of real fabric: with the
+   mean spacing (ThreadWidth) an edge thread would carry a full spacing's stiffness on half a spacing's mass, and a
+   strip of n threads would stretch and bend n / (n - 1) times too stiffly (1.5 for 3). */
 static PetscReal ThreadOwnWidth(const PieceContext *pc, PetscInt i, PetscInt j, PetscBool warp)
 {
   const PetscInt n = warp ? pc->piece->nv : pc->piece->nu, at = warp ? j : i;
@@ -63,6 +63,15 @@ static PetscReal ThreadOwnWidth(const PieceContext *pc, PetscInt i, PetscInt j, 
     width += 0.5 * FlatDistance(pc, PieceNode(pc, i, j), warp ? PieceNode(pc, i, other) : PieceNode(pc, other, j));
   }
   return width;
+}
+
+/* The width whose stiffness the links along a thread carry at node (i, j) (stretch, and bending in the link model):
+   the thread's own strip (ThreadOwnWidth), as its mass is. A `mass: uniform` piece is a net of equal particles, an
+   edge one as heavy as any other: there every link keeps the paper's per-link coefficient (ThreadWidth), the net the
+   hanging-sheet benchmark shares with its peers (docs/model.md section 2). */
+static PetscReal ThreadLinkWidth(const PieceContext *pc, PetscInt i, PetscInt j, PetscBool warp)
+{
+  return pc->piece->mass_distribution == CLOTH_MASS_UNIFORM ? ThreadWidth(pc, i, j, warp) : ThreadOwnWidth(pc, i, j, warp);
 }
 
 static ClothLink *AddLink(ClothModel model, PetscInt a, PetscInt b, PetscReal k, PetscReal rest, PetscReal repel_length, PetscReal repel_k)
@@ -130,7 +139,7 @@ static void AddThreadInteractions(ClothModel model, const PieceContext *pc, Pets
       if (i + di < piece->nu && j + dj < piece->nv && PieceEdgeKept(pc, i, j, di, dj)) {
         const PetscInt  b     = PieceNode(pc, i + di, j + dj);
         const PetscReal rest  = FlatDistance(pc, a, b);
-        const PetscReal width = 0.5 * (ThreadWidth(pc, i, j, warp) + ThreadWidth(pc, i + di, j + dj, warp));
+        const PetscReal width = 0.5 * (ThreadLinkWidth(pc, i, j, warp) + ThreadLinkWidth(pc, i + di, j + dj, warp));
         const PetscReal k     = FabricStretchLinkStiffness(fab, warp, rest, width);
         ClothLink      *link  = AddLink(model, pc->offset + a, pc->offset + b, k, rest, fab->repulsion * rest, fab->repulsion_stiffness * k);
 
@@ -143,7 +152,7 @@ static void AddThreadInteractions(ClothModel model, const PieceContext *pc, Pets
       }
       if (i + 2 * di < piece->nu && j + 2 * dj < piece->nv && PieceEdgeKept(pc, i, j, di, dj) && PieceEdgeKept(pc, i + di, j + dj, di, dj)) {
         const PetscInt  m = PieceNode(pc, i + di, j + dj), b = PieceNode(pc, i + 2 * di, j + 2 * dj);
-        const PetscReal width = ThreadWidth(pc, i + di, j + dj, warp);
+        const PetscReal width = ThreadLinkWidth(pc, i + di, j + dj, warp);
         if (fab->bend_model == CLOTH_BEND_LINK) {
           const PetscReal rest = FlatDistance(pc, a, b);
           AddLink(model, pc->offset + a, pc->offset + b, FabricBendLinkStiffness(fab, warp, rest, width), rest, 0, 0);

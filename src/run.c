@@ -57,6 +57,9 @@ struct _n_ClothRun {
   Vec      natural_slider[CLOTH_SLIDER_FAMILIES];          /* hysteresis sliders by ClothSliderFamily (cloth.h), checkpoints; NULL without */
   char     last_checkpoint[CLOTH_PATH_LEN];
   PetscInt krylov_total, substeps_total;
+
+  Vec       natural_history[2]; /* bdf2's history (rate, velocity) for checkpoints; NULL until a checkpoint needs them */
+  PetscReal history_dt;         /* read from the restart's checkpoint: the step of its history (0: none) */
 };
 
 /* The signal received, SIGTERM or SIGUSR1 (what batch schedulers send before a time limit); 0: none. */
@@ -238,13 +241,38 @@ static PetscErrorCode ClothRunFillCheckpointInfo(ClothRun run, ClothCheckpointIn
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* bdf2's history in checkpoints (integrator.h, ClothIntegratorGetHistory): a restart without it would take its first
+   step as backward Euler where the uninterrupted run takes BDF2. write: gathers it for the next checkpoint (its fields
+   are left out when there is none) and returns its step in *history_dt; !write (a restart, before the integrator is set
+   up): only creates the natural Vecs the checkpoint's fields are read into. */
+static PetscErrorCode ClothRunHistoryCheckpoint(ClothRun run, PetscBool write, PetscReal *history_dt)
+{
+  Vec rate = NULL, velocity = NULL;
+
+  PetscFunctionBeginUser;
+  if (history_dt) *history_dt = 0;
+  if (write) PetscCall(ClothIntegratorGetHistory(run->integrator, &rate, &velocity, history_dt));
+  if (write && (!rate || *history_dt == 0)) {
+    for (PetscInt k = 0; k < 2; k++) PetscCall(VecDestroy(&run->natural_history[k]));
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
+  for (PetscInt k = 0; k < 2; k++)
+    if (!run->natural_history[k]) PetscCall(ClothCreateNaturalVec(run->cloth, &run->natural_history[k]));
+  if (write) {
+    PetscCall(ClothScatterToNatural(run->cloth, rate, run->natural_history[0], SCATTER_FORWARD));
+    PetscCall(ClothScatterToNatural(run->cloth, velocity, run->natural_history[1], SCATTER_FORWARD));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 /* The checkpoint fields, in natural order: position, velocity, the implicit integrator's warm start
    (without which a restarted run's first Krylov solves would start from zero and differ from an
    uninterrupted run's at the solver tolerance; left out with with_dv false), in scenes with bodies,
    the contact normals of the particles held on a body (the constraints of the next step), the sewn seams,
-   and the sliders of bending and shear hysteresis (without which the fabric would forget its friction). A field
-   new state adds goes here (and CLOTH_RUN_MAX_FIELDS grows). */
-#define CLOTH_RUN_MAX_FIELDS 7
+   the sliders of bending and shear hysteresis (without which the fabric would forget its friction), and bdf2's history
+   when the run keeps one (ClothRunHistoryCheckpoint). A field new state adds goes here (and CLOTH_RUN_MAX_FIELDS
+   grows). */
+#define CLOTH_RUN_MAX_FIELDS 9
 static PetscErrorCode ClothRunCheckpointFields(ClothRun run, PetscBool with_dv, ClothCheckpointField fields[CLOTH_RUN_MAX_FIELDS], PetscInt *nfields)
 {
   PetscInt n = 0;
@@ -261,6 +289,10 @@ static PetscErrorCode ClothRunCheckpointFields(ClothRun run, PetscBool with_dv, 
     if (!run->natural_slider[f]) continue;
     PetscCall(PetscObjectGetName((PetscObject)run->natural_slider[f], &name));
     fields[n++] = (ClothCheckpointField){name, run->natural_slider[f], PETSC_TRUE, PETSC_FALSE};
+  }
+  if (run->natural_history[0]) { /* last, so that the indices above stay */
+    fields[n++] = (ClothCheckpointField){"bdf2_history_rate", run->natural_history[0], PETSC_FALSE, PETSC_FALSE};
+    fields[n++] = (ClothCheckpointField){"bdf2_history_velocity", run->natural_history[1], PETSC_FALSE, PETSC_FALSE};
   }
   *nfields = n;
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -304,6 +336,7 @@ static PetscErrorCode ClothRunRestore(ClothRun run)
 
   PetscFunctionBeginUser;
   PetscCall(ClothRunFillCheckpointInfo(run, &expect));
+  PetscCall(ClothRunHistoryCheckpoint(run, PETSC_FALSE, NULL));
   PetscCall(ClothRunCheckpointFields(run, PETSC_TRUE, fields, &nfields));
   PetscCall(PetscLogEventBegin(ClothLog.checkpoint_read, 0, 0, 0, 0));
   PetscCall(ClothCheckpointRead(run->comm, run->restart, run->restart_any_scene ? NULL : &expect, &info, nfields, fields));
@@ -325,13 +358,14 @@ static PetscErrorCode ClothRunRestore(ClothRun run)
   if (run->sewing) PetscCall(ClothSewingSetStateVec(run->sewing, run->natural_sewn, run->time));
   for (PetscInt f = 0; f < CLOTH_SLIDER_FAMILIES; f++)
     if (run->natural_slider[f]) PetscCall(ClothHysteresisSetState(run->cloth, (ClothSliderFamily)f, run->natural_slider[f]));
+  run->history_dt = fields[nfields - 1].found && fields[nfields - 2].found ? info.history_dt : 0; /* the history fields are last */
   PetscCall(ClothRunAdoptCheckpointSettings(run, &info));
   PetscCall(PetscPrintf(run->comm, "Restarting from %s: step %" PetscInt_FMT ", t = %.6f s, dt = %g s (written by integrator %s, %s)\n", run->restart, run->step, (double)run->time, (double)info.dt, info.integrator,
                         fields[2].found ? "with its warm start" : "without a warm start"));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* The implicit integrator's warm start from the checkpoint (zero when the checkpoint had none). */
+/* The implicit integrator's warm start from the checkpoint (zero when the checkpoint had none), and bdf2's history. */
 static PetscErrorCode ClothRunRestoreWarmStart(ClothRun run)
 {
   Vec dv;
@@ -339,6 +373,16 @@ static PetscErrorCode ClothRunRestoreWarmStart(ClothRun run)
   PetscFunctionBeginUser;
   PetscCall(ClothIntegratorGetWarmStart(run->integrator, &dv));
   if (dv) PetscCall(ClothScatterToNatural(run->cloth, dv, run->natural_dv, SCATTER_REVERSE));
+  { /* and bdf2's history, when both the checkpoint and the integrator have one */
+    Vec rate, velocity;
+
+    PetscCall(ClothIntegratorGetHistory(run->integrator, &rate, &velocity, NULL));
+    if (rate && run->history_dt > 0) {
+      PetscCall(ClothScatterToNatural(run->cloth, rate, run->natural_history[0], SCATTER_REVERSE));
+      PetscCall(ClothScatterToNatural(run->cloth, velocity, run->natural_history[1], SCATTER_REVERSE));
+      PetscCall(ClothIntegratorSetHistoryStep(run->integrator, run->history_dt));
+    }
+  }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -690,6 +734,7 @@ static PetscErrorCode ClothRunWriteCheckpoint(ClothRun run)
   ClothCheckpointField fields[CLOTH_RUN_MAX_FIELDS];
   PetscInt             nfields;
   Vec                  dv, normals;
+  PetscReal            history_dt;
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(ClothLog.checkpoint, 0, 0, 0, 0));
@@ -703,8 +748,10 @@ static PetscErrorCode ClothRunWriteCheckpoint(ClothRun run)
   if (run->sewing) PetscCall(ClothSewingGetStateVec(run->sewing, run->natural_sewn));
   for (PetscInt f = 0; f < CLOTH_SLIDER_FAMILIES; f++)
     if (run->natural_slider[f]) PetscCall(ClothHysteresisGetState(run->cloth, (ClothSliderFamily)f, run->natural_slider[f]));
+  PetscCall(ClothRunHistoryCheckpoint(run, PETSC_TRUE, &history_dt));
   PetscCall(ClothRunCheckpointFields(run, dv ? PETSC_TRUE : PETSC_FALSE, fields, &nfields));
   PetscCall(ClothRunFillCheckpointInfo(run, &info));
+  info.history_dt = history_dt;
   PetscCall(ClothCheckpointWrite(run->comm, run->output_dir, &info, nfields, fields, run->checkpoint_keep, run->last_checkpoint, sizeof(run->last_checkpoint)));
   PetscCall(ClothIntegratorRequestPreconditionerRebuild(run->integrator)); /* as a restart from this checkpoint */
   PetscCall(PetscLogEventEnd(ClothLog.checkpoint, 0, 0, 0, 0));
@@ -860,6 +907,7 @@ PetscErrorCode ClothRunDestroy(ClothRun *run)
   PetscCall(VecDestroy(&r->natural_position));
   PetscCall(VecDestroy(&r->natural_velocity));
   PetscCall(VecDestroy(&r->natural_dv));
+  for (PetscInt k = 0; k < 2; k++) PetscCall(VecDestroy(&r->natural_history[k]));
   PetscCall(VecDestroy(&r->natural_contact));
   PetscCall(VecDestroy(&r->natural_strain));
   PetscCall(VecDestroy(&r->natural_body_contact));

@@ -40,7 +40,7 @@
          # from, to, segments}, nodes: [b, r, t, l]} (pattern.h); pin_disc: {center, radius}, pin_box: {min, max};
          # cut_disc: {center, radius}: only the cells whose centre lies in the disc are fabric (a grid cut by a circle)
      run:                             # optional defaults for run-level options (command-line options override)
-       integrator: implicit           # explicit | symplectic | implicit
+       integrator: implicit           # explicit | symplectic | implicit | bdf2
        dt: 0.004166666666666667       # s, > 0
        t_final: 1.0                   # s, > 0; or steps: 240 (integer >= 1), not both
        output_every: 24               # integer >= 1
@@ -78,7 +78,7 @@ const char *const ClothBendModels[]        = {"link", "angle", "ClothBendModel",
 const char *const ClothMassDistributions[] = {"area", "uniform", "ClothMassDistribution", "CLOTH_MASS_", NULL};
 /* Written in the same PETSc enum-list style so that SceneKeyChoice treats every list of names alike; the integrator
    module owns the actual type. */
-static const char *const SceneIntegrators[] = {"explicit", "symplectic", "implicit", "SceneIntegrator", "SCENE_INTEGRATOR_", NULL};
+static const char *const SceneIntegrators[] = {"explicit", "symplectic", "implicit", "bdf2", "SceneIntegrator", "SCENE_INTEGRATOR_", NULL};
 
 /* Allowed keys per block (NULL-terminated). */
 static const char *const SceneTopKeys[]           = {"name", "gravity", "fabrics", "pieces", "run", "bodies", "self_collision", "seams", "sewing", NULL};

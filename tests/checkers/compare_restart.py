@@ -5,7 +5,8 @@
 
 Checks that the /state attributes step, time, dt, integrator, scene_fingerprint and nparticles are
 equal and that /state/position, /state/velocity (and /state/implicit_dv, contact_normal, seams_sewn,
-bend_slider and shear_slider when A has them) are equal:
+bend_slider, shear_slider, bdf2_history_rate and bdf2_history_velocity when A has them, and the attribute
+history_dt) are equal:
 bit for bit by default (a restart on the same ranks), or within the given absolute tolerances
 (another rank count; implicit_dv, a solver iterate, is then not compared). With --series, the two
 XDMF series files must hold the same frames (steps and times) with bit-identical datasets.
@@ -38,7 +39,10 @@ def compare_checkpoints(path_a, path_b, atol):
                 fail(f"/state attribute {key}: {sa.attrs[key]!r} in {path_a}, {sb.attrs[key]!r} in {path_b}")
         names = ["position", "velocity"]
         if atol is None:
-            names += [name for name in ("implicit_dv", "contact_normal", "seams_sewn", "bend_slider", "shear_slider") if name in sa]
+            names += [name for name in ("implicit_dv", "contact_normal", "seams_sewn", "bend_slider", "shear_slider",
+                                        "bdf2_history_rate", "bdf2_history_velocity") if name in sa]
+            if sa.attrs.get("history_dt") != sb.attrs.get("history_dt"):
+                fail(f"/state attribute history_dt: {sa.attrs.get('history_dt')!r} in {path_a}, {sb.attrs.get('history_dt')!r} in {path_b}")
         for name in names:
             if name not in sb:
                 fail(f"{path_b} lacks /state/{name}")

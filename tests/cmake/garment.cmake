@@ -45,7 +45,11 @@ set_property(TEST garment_dress_fitted_coarse APPEND PROPERTY ENVIRONMENT "CLOTH
 # steps); 76 s in the idle CI run of 2026-11-26 (204 s on the shared machine at a load of about 11). It fails on the scenes tried before this one
 # (docs/results.md, "Layering"): the straps through the T-shirt's back (18 crossings, strain 0.30) at a pull of
 # 1000 m/s^2, the skirt's hems crossed (15) at 300, side seams held open by the T-shirt's folds or its sleeves.
-clothsim_add_script_test(garment_layered_coarse garment_coarse.sh input/tshirt_dress.yaml "25 25=13 13" "21 9=11 5" "26 11=26 6" "4 32=4 16" "33 25=17 13")
+# Since edge threads carry their true width (half a spacing, issue 50, 2026-11-29) the bodice's top edge, where each
+# strap hangs on 4 edge nodes of this coarse grid, strains 0.102 (0.1018 and 0.1017 in two runs; 0.091 before: the
+# links along the edge are half as stiff as before); the strain limit of this test is 0.11 instead of issue 8's 0.10
+# (the main job's fitted dress keeps 0.018, and the other targets are unchanged: 0 inside, 0 crossings).
+clothsim_add_script_test(garment_layered_coarse garment_coarse.sh input/tshirt_dress.yaml "25 25=13 13" "21 9=11 5" "26 11=26 6" "4 32=4 16" "33 25=17 13" -- --strain-max 0.11)
 # Its timeout is 3000 s, as the fitted dress's: in a full ctest -j2 on the shared machine (three other helpers' runs
 # and test suites, load about 20) it ran out of 1200 s at t = 1.84 s of 2.5, with garment_dress_coarse out of
 # 1200 s beside it (36 s quiet); the timeout guards against a hung run, it does not time the test.

@@ -153,5 +153,5 @@ set_tests_properties(robust_error_exit PROPERTIES TIMEOUT 200 PROCESSORS 2 LABEL
 # misspelled choices: PETSc's own messages, as one line with exit 2
 robustness_case(partition_unknown 2 2 ${sheet} "Unknown option foo for -cloth_partition. Available options: metis block" -- -cloth_partition foo)
 robustness_case(ksp_type_unknown 2 1 ${sheet} "Unable to find requested KSP type foo" -- -ksp_type foo -steps 1)
-robustness_case(integrator_unknown 2 1 ${sheet} "Unknown integrator 'foo': expected explicit, symplectic or implicit" -- -integrator foo)
+robustness_case(integrator_unknown 2 1 ${sheet} "Unknown integrator 'foo': expected explicit, symplectic, implicit or bdf2" -- -integrator foo)
 robustness_case(too_many_ranks 2 5 ${sheet} "4 particles cannot be shared by 5 ranks: expected at most 4 ranks" -- -grid 2)

@@ -43,9 +43,10 @@ set_tests_properties(selfcontact_folded_sheet selfcontact_two_sheets_sphere PROP
 # sheet resting on a 0.4 m sheet that lies on a plane tilted by theta, mu 0.3, dt 1/960 s, 0.5 s, 1 rank
 # (tests/drivers/self_friction_incline.sh). Stick at 16 degrees (tan 0.287 = 0.96 mu; 12 degrees until the normal force became
 # the carried load, 25 Nov 2026, moved nearer the limit where the check has teeth): the top sheet moves at most 0.5 mm
-# (measured 0.26 mm; frictionless it would slide 34 cm) and creeps over 0.4-0.5 s at the regularised law's
-# eps_v tan / sqrt(mu^2 - tan^2) plus the lower sheet's creep on the plane within 2 % (measured +0.69 %; with the
-# repulsion as the normal force +4.28 %). Slide at 25 degrees (tan 0.47 > 0.3): the acceleration between 0.2 and 0.4 s
+# (measured 0.25 mm; frictionless it would slide 34 cm) and creeps over 0.4-0.5 s at the regularised law's
+# eps_v tan / sqrt(mu^2 - tan^2) within 2 % (measured +0.74 %), the lower sheet held still on the plane by static
+# friction, at most 1e-5 m/s (measured 0; cloth-cloth friction does not stick: before static friction held on bodies,
+# 2026-11-29, the lower sheet crept too and the sum was checked, +0.69 %; with the repulsion as the normal force +4.28 %). Slide at 25 degrees (tan 0.47 > 0.3): the acceleration between 0.2 and 0.4 s
 # is g (sin - mu cos) = 1.479 m/s^2 within 1 %, the issue's target (measured 1.472, -0.44 %: the load as N 0.4 % below
 # m g cos and the drag's lag, +0.35 %; 10 % allowed before, when it measured -8.4 %). 1.4-1.8 s each on the shared
 # machine (35-40 s each when it was loaded).

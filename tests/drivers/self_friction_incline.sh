@@ -4,9 +4,11 @@
 # it, self-collision thickness 5 mm above, no damping, gravity 9.81 m/s^2, dt 1/960 s, 0.5 s, checkpoints every 0.1 s.
 #   stick: tan(theta) < mu: the small sheet's mean displacement along the slope over the 0.5 s stays below 0.5 mm
 #          (without friction it would slide 0.5 g sin(theta) t^2, 34 cm at 16 degrees), and its creep over 0.4-0.5 s
-#          (mean velocity) is the regularised laws' (eps_v tan / sqrt(mu^2 - tan^2) on the lower sheet plus the lower
-#          sheet's eps_v tan / sqrt(1 - tan^2) on the plane) within TOL_CREEP (relative, default 0.02: measured +0.69 % at
-#          16 degrees; with the repulsion as the normal force, before 25 Nov 2026, +4.28 %);
+#          (mean velocity) is the regularised law's between the layers, eps_v tan / sqrt(mu^2 - tan^2), within TOL_CREEP
+#          (relative, default 0.02: measured +0.88 % at 16 degrees), while the lower sheet, held by the plane's static
+#          friction, moves at most 1e-5 m/s (cloth-cloth friction has no sticking: its creep is the regularised law's;
+#          before static friction held on bodies, 2026-11-29, the lower sheet crept too, at eps_v tan / sqrt(1 - tan^2),
+#          and the sum was checked: +0.69 %);
 #   slide: tan(theta) > mu: its acceleration along the slope between 0.2 s and 0.4 s (mean velocity difference) is
 #          g (sin(theta) - mu cos(theta)) within TOL_SLIDE (relative, default 0.01, the issue's target: measured
 #          -0.44 % at mu 0.3 and -0.11 % at mu 0.15, 1 and 2 ranks; -8.4 % and -4.3 % before, when 0.10 was allowed;
@@ -93,14 +95,17 @@ g = 9.81
 if case == "stick":
     moved = float(np.mean(x5)) - x0
     # the regularised law's creep u, from mu N u / sqrt(u^2 + eps^2) = F_t with F_t / N = tan(theta): the top sheet's on
-    # the lower one plus the lower sheet's on the plane (friction 1.0); by 0.4 s both have settled to it
+    # the lower one (the lower one sticks to the plane, friction 1.0); by 0.4 s it has settled to it
     tn = math.tan(t)
-    creep_exact = eps * tn / math.sqrt(mu * mu - tn * tn) + eps * tn / math.sqrt(1 - tn * tn)
+    creep_exact = eps * tn / math.sqrt(mu * mu - tn * tn)
     creep = float(np.mean(x5 - x4)) / 0.1
+    under = slice(0, 21 * 11)
+    under_speed = float(np.max(np.abs(state(480, under)[0] - state(384, under)[0]))) / 0.1
     print(f"stick: tan(theta) = {tn:.4f} < mu = {mu}; the sheet on top moved {moved:.3e} m along the slope in 0.5 s "
           f"(at most 5e-4 m; frictionless: {0.5 * g * math.sin(t) * 0.25:.3f} m); creep over 0.4-0.5 s {creep:.4e} m/s, "
           f"regularised law {creep_exact:.4e} m/s, error {100 * (creep - creep_exact) / creep_exact:+.2f} % (at most {100 * tol_creep:g} %)")
-    ok = abs(moved) <= 5e-4 and abs(creep - creep_exact) <= tol_creep * creep_exact
+    print(f"stick: the lower sheet on the plane: fastest particle over 0.4-0.5 s {under_speed:.3e} m/s (at most 1e-5 m/s)")
+    ok = abs(moved) <= 5e-4 and abs(creep - creep_exact) <= tol_creep * creep_exact and under_speed <= 1e-5
 else:
     exact = g * (math.sin(t) - mu * math.cos(t))
     ok = True
