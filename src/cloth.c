@@ -24,7 +24,7 @@ PetscErrorCode ClothCreate(MPI_Comm comm, Scene scene, Cloth *cloth)
   c->gravity_scale     = 1.0;
   c->friction_scale    = 1.0;
   c->perturbation_seed = 1;
-  c->stiffness         = CLOTH_STIFFNESS_PROJECTED;
+  c->stiffness         = CLOTH_STIFFNESS_GAUSS_NEWTON;
   c->factored          = PETSC_TRUE;
   *cloth               = c;
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -44,7 +44,7 @@ PetscErrorCode ClothSetFromOptions(Cloth cloth)
   PetscCall(PetscOptionsReal("-cloth_perturbation_wavelength", "Shortest wavelength, m, of a smooth -cloth_perturbation field, the same at any resolution (0: independent per particle)", "ClothModelPerturbPositions", cloth->perturbation_wavelength,
                              &cloth->perturbation_wavelength, NULL));
   PetscCall(PetscOptionsEnum("-cloth_stiffness",
-                             "Stiffness of the angle and twist elements in the implicit system: projected (the exact Hessian projected by an eigen-decomposition per element), gauss_newton (closed form, positive semidefinite, 7.9x less assembly), "
+                             "Stiffness of the angle and twist elements in the implicit system: gauss_newton (closed form, positive semidefinite; the default), projected (the exact Hessian projected by a LAPACK eigen-decomposition per element, 7.9x the assembly), "
                              "exact (indefinite: tests only)",
                              "ClothAssembleImplicitSystem", ClothStiffnessTypes, (PetscEnum)cloth->stiffness, (PetscEnum *)&cloth->stiffness, NULL));
   PetscCall(PetscOptionsBool("-cloth_stiffness_factored", "With gauss_newton: filter and assemble each angle and twist element from its rank-1 to 3 factors (false: from its expanded matrix; the same system up to rounding)",

@@ -1,5 +1,6 @@
 /* Element kernels of the fabric model (see forces.h). */
 #include "forces.h"
+#include "log.h"
 #include <petscblaslapack.h>
 #include "vec3.h"
 
@@ -353,17 +354,21 @@ PetscErrorCode ClothProjectPSD(PetscInt n, PetscReal A[])
   PetscFunctionBeginUser;
   PetscCheck(n <= 12, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "ClothProjectPSD handles n <= 12, got %" PetscInt_FMT, n);
   PetscCall(PetscBLASIntCast(n, &bn));
+  PetscCall(ClothLogRegister());
+  PetscCall(PetscLogEventBegin(ClothLog.project_psd, 0, 0, 0, 0));
   for (PetscInt i = 0; i < n * n; i++) V[i] = A[i];
   /* Row-major symmetric == column-major symmetric, so LAPACK sees the same matrix. */
   PetscCallBLAS("LAPACKsyev", LAPACKsyev_("V", "U", &bn, V, &bn, w, work, &lwork, &info));
   PetscCheck(info == 0, PETSC_COMM_SELF, PETSC_ERR_LIB, "LAPACK syev failed with info %d", (int)info);
-  if (w[0] >= 0) PetscFunctionReturn(PETSC_SUCCESS); /* eigenvalues ascending: already PSD */
-  for (PetscInt i = 0; i < n * n; i++) A[i] = 0;
-  for (PetscInt e = 0; e < n; e++) {
-    const PetscReal *v = &V[e * n]; /* column e of the column-major eigenvector matrix */
-    if (w[e] <= 0) continue;
-    for (PetscInt i = 0; i < n; i++)
-      for (PetscInt j = 0; j < n; j++) A[i * n + j] += w[e] * v[i] * v[j];
+  if (w[0] < 0) { /* eigenvalues ascending: w[0] >= 0 is PSD already */
+    for (PetscInt i = 0; i < n * n; i++) A[i] = 0;
+    for (PetscInt e = 0; e < n; e++) {
+      const PetscReal *v = &V[e * n]; /* column e of the column-major eigenvector matrix */
+      if (w[e] <= 0) continue;
+      for (PetscInt i = 0; i < n; i++)
+        for (PetscInt j = 0; j < n; j++) A[i * n + j] += w[e] * v[i] * v[j];
+    }
   }
+  PetscCall(PetscLogEventEnd(ClothLog.project_psd, 0, 0, 0, 0));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

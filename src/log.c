@@ -29,6 +29,7 @@ PetscErrorCode ClothLogRegister(void)
   PetscCall(PetscLogEventRegister("ClothSelfCoupling", ClothLog.classid, &ClothLog.self_coupling));
   PetscCall(PetscLogEventRegister("ClothSelfForces", ClothLog.classid, &ClothLog.self_forces));
   PetscCall(PetscLogEventRegister("ClothSelfImpulses", ClothLog.classid, &ClothLog.self_impulses));
+  PetscCall(PetscLogEventRegister("ClothProjectPSD", ClothLog.classid, &ClothLog.project_psd));
   PetscCall(PetscLogEventRegister("ClothCheckpointRead", ClothLog.classid, &ClothLog.checkpoint_read));
   PetscCall(PetscLogEventRegister("ClothBlockPtAPSym", ClothLog.classid, &ClothLog.block_ptap_symbolic));
   PetscCall(PetscLogEventRegister("ClothBlockPtAPNum", ClothLog.classid, &ClothLog.block_ptap_numeric));

@@ -23,6 +23,7 @@ typedef struct {
   PetscLogEvent self_build, self_filter;    /* nested in it: building the candidate list (exchange, cell grids); testing the candidates */
   PetscLogEvent self_coupling, self_forces; /* the contacts' couplings in a product of the implicit operator; repulsion and friction at an evaluation */
   PetscLogEvent self_impulses;              /* the velocity filter's Gauss-Seidel sweeps */
+  PetscLogEvent project_psd;                /* one element stiffness projected by LAPACK (-cloth_stiffness projected): the count shows who still calls it */
   PetscLogEvent checkpoint_read;            /* reading and checking the checkpoint of -restart */
   PetscLogEvent block_ptap_symbolic;        /* the pattern-grid multigrid's finest Galerkin product, from the block matrix: */
   PetscLogEvent block_ptap_numeric;         /* its pattern (once per nonzero pattern of the matrix) and its values */

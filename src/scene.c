@@ -959,7 +959,7 @@ static PetscErrorCode SceneReadSelfCollision(SceneReader *r, yaml_node_t *root, 
   PetscCall(SceneExpectMap(r, map, "self_collision", SceneSelfCollisionKeys, NULL));
   PetscCall(PetscStrncpy(r->block, "self_collision", sizeof(r->block)));
   self->given        = PETSC_TRUE;
-  self->exclude_ring = 1;
+  self->exclude_ring = 0;
   PetscCall(SceneKeyChoice(r, map, "enabled", PETSC_FALSE, SceneBooleans, &enabled));
   self->enabled = enabled ? PETSC_TRUE : PETSC_FALSE;
   PetscCall(SceneKeyReal(r, map, "thickness", self->enabled, SCENE_REAL_POSITIVE, "m", &self->thickness));

@@ -117,7 +117,7 @@ typedef struct {
   PetscBool enabled;
   PetscReal thickness;    /* m (> 0): layers are kept this far apart */
   PetscReal stiffness;    /* N/m (> 0): repulsion 0.5 k (thickness - d)^2 for d < thickness */
-  PetscInt  exclude_ring; /* particles of one piece within this many grid rings never collide (default 1) */
+  PetscInt  exclude_ring; /* particles of one piece within this many grid rings never collide (default 0: sharing a particle) */
   PetscBool same_piece;   /* particles of one piece collide with each other (default true) */
 } SceneSelfCollision;
 

@@ -751,7 +751,7 @@ PetscErrorCode ClothSelfContactCreate(Cloth cloth, ClothSelfContact *sc)
   s->enabled              = scene->enabled;
   s->thickness            = scene->thickness;
   s->stiffness            = scene->stiffness;
-  s->exclude_ring         = scene->given ? scene->exclude_ring : 1;
+  s->exclude_ring         = scene->given ? scene->exclude_ring : 0;
   s->same_piece           = scene->given ? scene->same_piece : PETSC_TRUE;
   s->min_gap              = 0.25;
   s->impulse_iterations   = 100;
@@ -775,7 +775,7 @@ PetscErrorCode ClothSelfContactSetFromOptions(ClothSelfContact sc)
   PetscCall(PetscOptionsBool("-self_collision", "Collide the fabric with itself and with other pieces", "ClothSelfContactSetUp", sc->enabled, &sc->enabled, NULL));
   PetscCall(PetscOptionsReal("-self_collision_thickness", "Distance kept between layers, m", "ClothSelfContactUpdate", sc->thickness, &sc->thickness, NULL));
   PetscCall(PetscOptionsReal("-self_collision_stiffness", "Repulsion stiffness within the thickness, N/m", "ClothSelfContactUpdate", sc->stiffness, &sc->stiffness, NULL));
-  PetscCall(PetscOptionsInt("-self_collision_exclude_ring", "Particles of one piece this many grid rings apart or closer never collide", "ClothSelfContactUpdate", sc->exclude_ring, &sc->exclude_ring, NULL));
+  PetscCall(PetscOptionsInt("-self_collision_exclude_ring", "Particles of one piece this many grid rings apart or closer never collide (0: primitives sharing a particle; widened by -self_collision_exclude_thicknesses)", "ClothSelfContactUpdate", sc->exclude_ring, &sc->exclude_ring, NULL));
   PetscCall(PetscOptionsReal("-self_collision_min_gap", "Impulses keep every gap above this fraction of the thickness", "ClothSelfContactFilterVelocity", sc->min_gap, &sc->min_gap, NULL));
   PetscCall(PetscOptionsInt("-self_collision_impulse_iterations", "Largest number of Gauss-Seidel sweeps of the impulse filter per step", "ClothSelfContactFilterVelocity", sc->impulse_iterations, &sc->impulse_iterations, NULL));
   PetscCall(PetscOptionsReal("-self_collision_exclude_thicknesses", "Particles of one piece closer in the pattern than this many thicknesses never collide (the exclusion ring widens to it)", "ClothSelfContactUpdate", sc->exclude_thicknesses,

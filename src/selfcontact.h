@@ -5,8 +5,8 @@
    the detection radius of a triangle (point-triangle) or two edges within it of each other
    (edge-edge), found with a uniform cell grid over the region of this rank's particles. Pairs never
    collide when a particle of one and a particle of the other lie within exclude_ring grid rings of
-   each other in one piece (the 1-ring by default: a particle against the triangles and edges that
-   contain it or its direct grid neighbours), when they are in one piece and same_piece is off, or
+   each other in one piece (by default ring 0, primitives that share a particle, widened so that particles
+   closer in the pattern than 2 thicknesses never collide), when they are in one piece and same_piece is off, or
    when the exclusion callback says so (sewn pieces).
 
    Across ranks: every step each rank gathers the bounding boxes of the others' particles
