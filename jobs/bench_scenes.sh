@@ -39,7 +39,7 @@ while read -r scene grid ranks steps tag extra; do
   echo "== $command"
   # shellcheck disable=SC2086
   mpiexec -n "$ranks" "$build_dir/clothsim" -scene "input/$scene.yaml" -grid "$grid" -steps "$steps" -output_every 0 -progress_seconds 60 \
-    -output_dir "$dir" -log_view -memory_view -self_collision_view ${extra:-} >"$log" 2>&1 || { echo "bench_scenes: the run failed, see $log"; tail -5 "$log"; }
+    -output_dir "$dir" -log_view -memory_view -self_collision_view ${extra:-} </dev/null >"$log" 2>&1 || { echo "bench_scenes: the run failed, see $log"; tail -5 "$log"; }
   dt=$(sed -n 's/^  run defaults.* dt \([0-9.e+-]*\) s.*/\1/p' "$log" | head -1)
   /usr/bin/python3 jobs/bench_table.py add --log "$log" --scene "$scene" --grid "$grid" --ranks "$ranks" --tag "$tag" --csv "$out/scenes.csv" \
     --t-final "$(/usr/bin/python3 -c "print(round($steps * ${dt:-0}, 4))")" --command "$command" || true

@@ -346,6 +346,15 @@ static PetscReal SmallestSingularValue(const PetscReal G[6])
   return PetscSqrtReal(PetscMax(0.0, half - root));
 }
 
+/* The smallest distance in grid indices between two primitives (particle-triangle or edge-edge) of a grid triangulation
+   that the exclusion ring R allows, i.e. whose particles are all more than R rings (Chebyshev) apart: R + 1 for
+   R >= 1 (a particle and a triangle or edge beyond the ring's square), 1/sqrt 2 for R = 0 (a particle and the diagonal
+   of the next cell, or two parallel diagonals); checked by enumeration over a 15 x 15 grid for R = 0 to 3. */
+static PetscReal AllowedIndexDistance(PetscInt ring)
+{
+  return ring > 0 ? (PetscReal)(ring + 1) : 1 / PETSC_SQRT2;
+}
+
 /* Are tiles P and Q of one piece at most one tile apart? */
 static PetscBool TileNeighbours(const SelfContactTile *P, const SelfContactTile *Q)
 {
@@ -355,8 +364,8 @@ static PetscBool TileNeighbours(const SelfContactTile *P, const SelfContactTile 
 /* Can no pair of primitives of the neighbouring tiles P and Q that the exclusion ring allows come within rho during
    the step? Their grid rectangle U (P alone, P and Q side by side, or the 2 x 2 block of diagonal neighbours) is
    convex, so for points x, y at grid indices a, b the map from indices to space with |grad - G| <= eps on every
-   triangle of U gives |x - y| >= (sigma_min(G) - eps) |a - b|; the exclusion puts |a - b| >= max(R, 1/sqrt 2) (R the
-   ring) between any two allowed primitives (their index boxes are a cell wide and their particles R + 1 apart); over the step their
+   triangle of U gives |x - y| >= (sigma_min(G) - eps) |a - b|; the exclusion puts |a - b| >= AllowedIndexDistance(R)
+   (R the ring) between any two allowed primitives; over the step their
    separation changes by at most twice the largest departure of a displacement from U's mean, dev. A flat or gently
    curved layer moving as one thus has no pair of primitives to test. False when U is not whole here. */
 static PetscBool TilesApart(ClothSelfContact sc, const SelfContactTileState *state, const SelfContactTile *P, const SelfContactTile *Q, PetscReal rho)
@@ -384,9 +393,7 @@ static PetscBool TilesApart(ClothSelfContact sc, const SelfContactTileState *sta
     eps                  = PetscMax(eps, u[k]->eps + Distance6(u[k]->G, G));
     dev                  = PetscMax(dev, u[k]->dev + PetscSqrtReal(Dot3(e, e)));
   }
-  /* with ring 0 (only primitives sharing a particle excluded) two allowed primitives of a grid triangulation are still
-     1/sqrt(2) apart in indices: a particle and the diagonal of the next cell, or two parallel diagonals */
-  return (SmallestSingularValue(G) - eps) * PetscMax((PetscReal)ring, 1 / PETSC_SQRT2) >= rho + 2 * dev ? PETSC_TRUE : PETSC_FALSE;
+  return (SmallestSingularValue(G) - eps) * AllowedIndexDistance(ring) >= rho + 2 * dev ? PETSC_TRUE : PETSC_FALSE;
 }
 
 /* ------------------------------------------------------------------------------------------------ */
