@@ -98,14 +98,7 @@ static PetscErrorCode AddContactStiffness(ClothSelfContact sc, const BodyNormals
 
   PetscFunctionBeginUser;
   if (sc->coupling_of[c] < 0) { /* the contact's first share in this assembly: its record */
-    if (sc->ncouplings == sc->maxcouplings) {
-      SelfContactCoupling *more;
-      sc->maxcouplings = 2 * sc->maxcouplings + 64;
-      PetscCall(PetscMalloc1(sc->maxcouplings, &more));
-      PetscCall(PetscArraycpy(more, sc->couplings, sc->ncouplings));
-      PetscCall(PetscFree(sc->couplings));
-      sc->couplings = more;
-    }
+    if (sc->ncouplings == sc->maxcouplings) PetscCall(SelfContactGrowArray(sizeof(SelfContactCoupling), sc->ncouplings, &sc->maxcouplings, 64, &sc->couplings));
     sc->coupling_of[c] = sc->ncouplings;
     rec                = &sc->couplings[sc->ncouplings++];
     ContactFilters(sc, bn, c, rec->S);
@@ -775,7 +768,8 @@ PetscErrorCode ClothSelfContactSetFromOptions(ClothSelfContact sc)
   PetscCall(PetscOptionsBool("-self_collision", "Collide the fabric with itself and with other pieces", "ClothSelfContactSetUp", sc->enabled, &sc->enabled, NULL));
   PetscCall(PetscOptionsReal("-self_collision_thickness", "Distance kept between layers, m", "ClothSelfContactUpdate", sc->thickness, &sc->thickness, NULL));
   PetscCall(PetscOptionsReal("-self_collision_stiffness", "Repulsion stiffness within the thickness, N/m", "ClothSelfContactUpdate", sc->stiffness, &sc->stiffness, NULL));
-  PetscCall(PetscOptionsInt("-self_collision_exclude_ring", "Particles of one piece this many grid rings apart or closer never collide (0: primitives sharing a particle; widened by -self_collision_exclude_thicknesses)", "ClothSelfContactUpdate", sc->exclude_ring, &sc->exclude_ring, NULL));
+  PetscCall(PetscOptionsInt("-self_collision_exclude_ring", "Particles of one piece this many grid rings apart or closer never collide (0: primitives sharing a particle; widened by -self_collision_exclude_thicknesses)", "ClothSelfContactUpdate",
+                            sc->exclude_ring, &sc->exclude_ring, NULL));
   PetscCall(PetscOptionsReal("-self_collision_min_gap", "Impulses keep every gap above this fraction of the thickness", "ClothSelfContactFilterVelocity", sc->min_gap, &sc->min_gap, NULL));
   PetscCall(PetscOptionsInt("-self_collision_impulse_iterations", "Largest number of Gauss-Seidel sweeps of the impulse filter per step", "ClothSelfContactFilterVelocity", sc->impulse_iterations, &sc->impulse_iterations, NULL));
   PetscCall(PetscOptionsReal("-self_collision_exclude_thicknesses", "Particles of one piece closer in the pattern than this many thicknesses never collide (the exclusion ring widens to it)", "ClothSelfContactUpdate", sc->exclude_thicknesses,

@@ -128,8 +128,8 @@ struct _n_ClothSelfContact {
   /* the couplings of the last assembly (AddContactStiffness, MultCoupling): per contact with a share in it, its record */
   PetscInt             ncouplings, maxcouplings, *coupling_of, maxcoupling_of; /* coupling_of: contact -> record, -1: none */
   SelfContactCoupling *couplings;
-  PetscBool            any_coupling;         /* on some rank (collective) */
-  Vec                  xcoupling, ycoupling; /* the couplings' remote particles' entries of a product */
+  PetscBool            any_coupling;              /* on some rank (collective) */
+  Vec                  xcoupling, ycoupling;      /* the couplings' remote particles' entries of a product */
   Vec                  impulse_dv, impulse_count; /* a sweep of impulses: the owned particles' velocity changes and their number */
   VecScatter           coupling_scatter;
   PetscInt             ncoupling_remote, *coupling_remote;
@@ -167,6 +167,10 @@ void SelfContactSweptBox(ClothSelfContact sc, const PetscInt v[], PetscInt nv, P
 PetscBool SelfContactRingExcluded(ClothSelfContact sc, const PetscInt pa[], PetscInt na, const PetscInt pb[], PetscInt nb);
 /* Whether this rank handles the edge-edge pair of edges e1, e2 (particles p). */
 PetscBool SelfContactHandlesEdgePair(ClothSelfContact sc, PetscInt e1, PetscInt e2, const PetscInt p[4]);
+
+/* Makes room in *array (elements of size bytes, n of them in use, *max allocated) when it is full: *max becomes
+   2 *max + extra and the n elements move to the new allocation. */
+PetscErrorCode SelfContactGrowArray(size_t size, PetscInt n, PetscInt *max, PetscInt extra, void *array);
 
 /* Each piece's exclusion ring: at least exclude_ring, and wide enough that particles closer in the pattern than
    exclude_thicknesses x thickness never collide (a flat layer's own neighbourhood, and a fold tighter than the

@@ -392,6 +392,19 @@ static PetscErrorCode LoadContactLocalState(ClothSelfContact sc, Vec velocity, P
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+PetscErrorCode SelfContactGrowArray(size_t size, PetscInt n, PetscInt *max, PetscInt extra, void *array)
+{
+  void **old = (void **)array, *more;
+
+  PetscFunctionBeginUser;
+  *max = 2 * *max + extra;
+  PetscCall(PetscMalloc(size * (size_t)*max, &more));
+  if (n > 0) PetscCall(PetscMemcpy(more, *old, size * (size_t)n));
+  PetscCall(PetscFree(*old));
+  *old = more;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 /* ------------------------------------------------------------------------------------------------ */
 /* Candidate list                                                                                   */
 
@@ -400,15 +413,7 @@ static PetscErrorCode AppendCandidate(ClothSelfContact sc, ClothContactKind kind
   SelfContactCandidate *cand;
 
   PetscFunctionBeginUser;
-  if (sc->ncandidates == sc->maxcandidates) {
-    SelfContactCandidate *more;
-
-    sc->maxcandidates = 2 * sc->maxcandidates + 256;
-    PetscCall(PetscMalloc1(sc->maxcandidates, &more));
-    PetscCall(PetscArraycpy(more, sc->candidates, sc->ncandidates));
-    PetscCall(PetscFree(sc->candidates));
-    sc->candidates = more;
-  }
+  if (sc->ncandidates == sc->maxcandidates) PetscCall(SelfContactGrowArray(sizeof(SelfContactCandidate), sc->ncandidates, &sc->maxcandidates, 256, &sc->candidates));
   cand       = &sc->candidates[sc->ncandidates++];
   cand->kind = kind;
   for (PetscInt k = 0; k < SELF_CONTACT_NP; k++) {

@@ -428,14 +428,7 @@ static inline PetscBool BoxesOverlap(const PetscReal a[6], const PetscReal b[6])
 static PetscErrorCode AppendPrimitivePair(ClothSelfContact sc, ClothContactKind kind, PetscInt a, PetscInt b)
 {
   PetscFunctionBeginUser;
-  if (sc->npairs == sc->maxpairs) {
-    SelfContactPrimitivePair *more;
-    sc->maxpairs = 2 * sc->maxpairs + 256;
-    PetscCall(PetscMalloc1(sc->maxpairs, &more));
-    PetscCall(PetscArraycpy(more, sc->pairs, sc->npairs));
-    PetscCall(PetscFree(sc->pairs));
-    sc->pairs = more;
-  }
+  if (sc->npairs == sc->maxpairs) PetscCall(SelfContactGrowArray(sizeof(SelfContactPrimitivePair), sc->npairs, &sc->maxpairs, 256, &sc->pairs));
   sc->pairs[sc->npairs].kind = kind, sc->pairs[sc->npairs].a = a, sc->pairs[sc->npairs].b = b;
   sc->npairs++;
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -659,14 +652,7 @@ static PetscErrorCode PairsOfTiles(ClothSelfContact sc, const SelfContactTileSta
   struct _n_SelfContactTilePair       *pair;
 
   PetscFunctionBeginUser;
-  if (sc->nfresh == sc->maxfresh) {
-    struct _n_SelfContactTilePair *more;
-    sc->maxfresh = 2 * sc->maxfresh + 256;
-    PetscCall(PetscMalloc1(sc->maxfresh, &more));
-    PetscCall(PetscArraycpy(more, sc->fresh, sc->nfresh));
-    PetscCall(PetscFree(sc->fresh));
-    sc->fresh = more;
-  }
+  if (sc->nfresh == sc->maxfresh) PetscCall(SelfContactGrowArray(sizeof(struct _n_SelfContactTilePair), sc->nfresh, &sc->maxfresh, 256, &sc->fresh));
   pair        = &sc->fresh[sc->nfresh++];
   pair->key   = key;
   pair->start = sc->npairs;
@@ -698,14 +684,7 @@ static PetscErrorCode PresentTiles(ClothSelfContact sc, PetscReal rho, PetscReal
   for (PetscInt k = 0; k < nparticles; k++) {
     const PetscInt t = SelfContactParticleTile(sc, sc->natural_of[k]);
     if (sc->tile_present[t] >= 0) continue;
-    if (sc->npresent_tiles == sc->maxpresent_tiles) {
-      PetscInt *more;
-      sc->maxpresent_tiles = 2 * sc->maxpresent_tiles + 64;
-      PetscCall(PetscMalloc1(sc->maxpresent_tiles, &more));
-      PetscCall(PetscArraycpy(more, sc->present_tiles, sc->npresent_tiles));
-      PetscCall(PetscFree(sc->present_tiles));
-      sc->present_tiles = more;
-    }
+    if (sc->npresent_tiles == sc->maxpresent_tiles) PetscCall(SelfContactGrowArray(sizeof(PetscInt), sc->npresent_tiles, &sc->maxpresent_tiles, 64, &sc->present_tiles));
     sc->tile_present[t]                     = sc->npresent_tiles;
     sc->present_tiles[sc->npresent_tiles++] = t;
   }
