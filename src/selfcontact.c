@@ -191,7 +191,7 @@ static PetscErrorCode SetCouplingScatter(ClothSelfContact sc)
 {
   const PetscInt nlocal = sc->layout.nlocal;
   PetscInt       n      = 0, *list;
-  PetscBool      same, all_same;
+  PetscBool      all_same;
 
   PetscFunctionBeginUser;
   sc->any_coupling = sc->ncouplings > 0 ? PETSC_TRUE : PETSC_FALSE;
@@ -213,10 +213,7 @@ static PetscErrorCode SetCouplingScatter(ClothSelfContact sc)
       PetscCall(PetscFindInt(sc->natural_of[l], n, list, &at));
       sc->couplings[c].local_c[k] = nlocal + at;
     }
-  same = (sc->coupling_scatter && n == sc->ncoupling_remote) ? PETSC_TRUE : PETSC_FALSE;
-  for (PetscInt k = 0; same && k < n; k++)
-    if (list[k] != sc->coupling_remote[k]) same = PETSC_FALSE;
-  PetscCallMPI(MPI_Allreduce(&same, &all_same, 1, MPIU_BOOL, MPI_LAND, sc->comm));
+  PetscCall(SelfContactSameParticles(sc, sc->coupling_scatter ? PETSC_TRUE : PETSC_FALSE, n, list, sc->ncoupling_remote, sc->coupling_remote, &all_same));
   if (all_same) {
     PetscCall(PetscFree(list));
     PetscFunctionReturn(PETSC_SUCCESS);
@@ -230,15 +227,7 @@ static PetscErrorCode SetCouplingScatter(ClothSelfContact sc)
   PetscCall(VecCreateSeq(PETSC_COMM_SELF, 3 * n, &sc->xcoupling));
   PetscCall(VecSetBlockSize(sc->xcoupling, 3));
   PetscCall(VecDuplicate(sc->xcoupling, &sc->ycoupling));
-  {
-    PetscInt *solver;
-    IS        from;
-    PetscCall(PetscMalloc1(n + 1, &solver));
-    for (PetscInt k = 0; k < n; k++) solver[k] = sc->layout.solver_of_natural[list[k]];
-    PetscCall(ISCreateBlock(PETSC_COMM_SELF, 3, n, solver, PETSC_OWN_POINTER, &from));
-    PetscCall(VecScatterCreate(sc->position, from, sc->xcoupling, NULL, &sc->coupling_scatter));
-    PetscCall(ISDestroy(&from));
-  }
+  PetscCall(SelfContactCreateScatter(sc, n, list, sc->xcoupling, &sc->coupling_scatter));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -168,6 +168,12 @@ PetscBool SelfContactRingExcluded(ClothSelfContact sc, const PetscInt pa[], Pets
 /* Whether this rank handles the edge-edge pair of edges e1, e2 (particles p). */
 PetscBool SelfContactHandlesEdgePair(ClothSelfContact sc, PetscInt e1, PetscInt e2, const PetscInt p[4]);
 
+/* Whether every rank's sorted list of natural particles (n of them) equals its old one (nold; have: an old one
+   exists). Collective. */
+PetscErrorCode SelfContactSameParticles(ClothSelfContact sc, PetscBool have, PetscInt n, const PetscInt list[], PetscInt nold, const PetscInt old[], PetscBool *all_same);
+/* A scatter from the cloth's state to target (3 entries a particle) for the natural particles natural[0..n). */
+PetscErrorCode SelfContactCreateScatter(ClothSelfContact sc, PetscInt n, const PetscInt natural[], Vec target, VecScatter *scatter);
+
 /* Makes room in *array (elements of size bytes, n of them in use, *max allocated) when it is full: *max becomes
    2 *max + extra and the n elements move to the new allocation. */
 PetscErrorCode SelfContactGrowArray(size_t size, PetscInt n, PetscInt *max, PetscInt extra, void *array);

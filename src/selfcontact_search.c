@@ -280,18 +280,38 @@ static PetscErrorCode ExchangeNearParticles(ClothSelfContact sc, const PetscScal
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+PetscErrorCode SelfContactSameParticles(ClothSelfContact sc, PetscBool have, PetscInt n, const PetscInt list[], PetscInt nold, const PetscInt old[], PetscBool *all_same)
+{
+  PetscBool same = (have && n == nold) ? PETSC_TRUE : PETSC_FALSE;
+
+  PetscFunctionBeginUser;
+  for (PetscInt k = 0; same && k < n; k++)
+    if (list[k] != old[k]) same = PETSC_FALSE;
+  PetscCallMPI(MPI_Allreduce(&same, all_same, 1, MPIU_BOOL, MPI_LAND, sc->comm));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode SelfContactCreateScatter(ClothSelfContact sc, PetscInt n, const PetscInt natural[], Vec target, VecScatter *scatter)
+{
+  PetscInt *solver;
+  IS        from;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMalloc1(n + 1, &solver));
+  for (PetscInt k = 0; k < n; k++) solver[k] = sc->layout.solver_of_natural[natural[k]];
+  PetscCall(ISCreateBlock(PETSC_COMM_SELF, 3, n, solver, PETSC_OWN_POINTER, &from));
+  PetscCall(VecScatterCreate(sc->position, from, target, NULL, scatter));
+  PetscCall(ISDestroy(&from));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 /* The scatter from the cloth's state to the remote particles, rebuilt when the set changes. */
 static PetscErrorCode SetRemoteParticles(ClothSelfContact sc, PetscInt nrecv, PetscInt *recv)
 {
-  const ClothLayout *layout = &sc->layout;
-  PetscBool          same   = (sc->remote_scatter && nrecv == sc->nremote) ? PETSC_TRUE : PETSC_FALSE, all_same;
-  PetscInt          *solver;
-  IS                 from;
+  PetscBool all_same;
 
   PetscFunctionBeginUser;
-  for (PetscInt k = 0; same && k < nrecv; k++)
-    if (recv[k] != sc->remote_natural[k]) same = PETSC_FALSE;
-  PetscCallMPI(MPI_Allreduce(&same, &all_same, 1, MPIU_BOOL, MPI_LAND, sc->comm));
+  PetscCall(SelfContactSameParticles(sc, sc->remote_scatter ? PETSC_TRUE : PETSC_FALSE, nrecv, recv, sc->nremote, sc->remote_natural, &all_same));
   if (all_same) {
     PetscCall(PetscFree(recv));
     PetscFunctionReturn(PETSC_SUCCESS);
@@ -313,12 +333,7 @@ static PetscErrorCode SetRemoteParticles(ClothSelfContact sc, PetscInt nrecv, Pe
   PetscCall(VecDuplicate(sc->xremote, &sc->kvremote));
   PetscCall(VecDuplicate(sc->xremote, &sc->bremote));
   PetscCall(VecDuplicate(sc->xremote, &sc->wremote));
-
-  PetscCall(PetscMalloc1(nrecv + 1, &solver));
-  for (PetscInt k = 0; k < nrecv; k++) solver[k] = layout->solver_of_natural[recv[k]];
-  PetscCall(ISCreateBlock(PETSC_COMM_SELF, 3, nrecv, solver, PETSC_OWN_POINTER, &from));
-  PetscCall(VecScatterCreate(sc->position, from, sc->xremote, NULL, &sc->remote_scatter));
-  PetscCall(ISDestroy(&from));
+  PetscCall(SelfContactCreateScatter(sc, nrecv, recv, sc->xremote, &sc->remote_scatter));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -734,7 +749,7 @@ static PetscErrorCode BuildCandidates(ClothSelfContact sc, PetscReal radius, Vec
   const PetscReal    margin = sc->velocity_margin * radius, rho = radius + 2 * margin;
   const PetscScalar *x;
   PetscReal          link, travel, region[6], far;
-  PetscInt           nrecv, *recv, nonfinite, farthest;
+  PetscInt           nrecv = 0, *recv = NULL, nonfinite, farthest;
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(ClothLog.self_build, 0, 0, 0, 0));
