@@ -737,7 +737,6 @@ PetscErrorCode ClothSelfContactCreate(Cloth cloth, ClothSelfContact *sc)
   s->same_piece           = scene->given ? scene->same_piece : PETSC_TRUE;
   s->min_gap              = 0.25;
   s->impulse_iterations   = 100;
-  s->skin                 = 0.5;
   s->velocity_margin      = 0.25;
   s->exclude_thicknesses  = 2;
   s->friction             = PETSC_FALSE;
@@ -763,8 +762,6 @@ PetscErrorCode ClothSelfContactSetFromOptions(ClothSelfContact sc)
   PetscCall(PetscOptionsInt("-self_collision_impulse_iterations", "Largest number of Gauss-Seidel sweeps of the impulse filter per step", "ClothSelfContactFilterVelocity", sc->impulse_iterations, &sc->impulse_iterations, NULL));
   PetscCall(PetscOptionsReal("-self_collision_exclude_thicknesses", "Particles of one piece closer in the pattern than this many thicknesses never collide (the exclusion ring widens to it)", "ClothSelfContactUpdate", sc->exclude_thicknesses,
                              &sc->exclude_thicknesses, NULL));
-  PetscCall(PetscOptionsReal("-self_collision_skin", "Broad phase: two tiles of the fabric keep their pairs of primitives while they move as one, relative motion and deformation below this fraction of the thickness", "ClothSelfContactUpdate",
-                             sc->skin, &sc->skin, NULL));
   PetscCall(PetscOptionsReal("-self_collision_velocity_margin", "Candidates found at a step's start serve the velocity filter's search while no particle's displacement over the step has changed by more than this fraction of the thickness",
                              "ClothSelfContactUpdate", sc->velocity_margin, &sc->velocity_margin, NULL));
   PetscCall(PetscOptionsBool("-self_collision_friction", "Regularised Coulomb friction between layers in contact, in the implicit step", "ClothSelfContactGetContribution", sc->friction, &sc->friction, NULL));
@@ -786,7 +783,6 @@ PetscErrorCode ClothSelfContactSetFromOptions(ClothSelfContact sc)
                (double)sc->stiffness);
     PetscCheck(sc->exclude_ring >= 0, sc->comm, PETSC_ERR_USER_INPUT, "-self_collision_exclude_ring must not be negative, got %" PetscInt_FMT, sc->exclude_ring);
     PetscCheck(sc->min_gap > 0 && sc->min_gap < 1, sc->comm, PETSC_ERR_USER_INPUT, "-self_collision_min_gap must lie in (0, 1), got %g", (double)sc->min_gap);
-    PetscCall(ClothOptionsCheckReal(sc->comm, "-self_collision_skin", sc->skin, 0, PETSC_FALSE, 100, NULL));
     PetscCall(ClothOptionsCheckReal(sc->comm, "-self_collision_velocity_margin", sc->velocity_margin, 0, PETSC_FALSE, 100, NULL));
     PetscCall(ClothOptionsCheckReal(sc->comm, "-self_collision_exclude_thicknesses", sc->exclude_thicknesses, 0, PETSC_FALSE, 100, NULL));
     PetscCall(ClothOptionsCheckReal(sc->comm, "-self_collision_friction_coefficient", sc->friction_coefficient, 0, PETSC_FALSE, 100, NULL));
@@ -876,16 +872,15 @@ PetscErrorCode ClothSelfContactFind(ClothSelfContact sc, PetscReal radius)
 
 PetscErrorCode ClothSelfContactGetStatistics(ClothSelfContact sc, ClothSelfContactStatistics *stats)
 {
-  PetscInt64 local[5] = {sc->tile_pairs, sc->tile_pairs_apart, sc->tile_pairs_kept, sc->primitive_pairs_total, sc->candidates_built}, sum[5];
+  PetscInt64 local[4] = {sc->tile_pairs, sc->tile_pairs_apart, sc->primitive_pairs_total, sc->candidates_built}, sum[4];
 
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Allreduce(local, sum, 5, MPIU_INT64, MPI_SUM, sc->comm));
+  PetscCallMPI(MPI_Allreduce(local, sum, 4, MPIU_INT64, MPI_SUM, sc->comm));
   stats->builds           = sc->builds;
   stats->tile_pairs       = sum[0];
   stats->tile_pairs_apart = sum[1];
-  stats->tile_pairs_kept  = sum[2];
-  stats->primitive_pairs  = sum[3];
-  stats->candidates       = sum[4];
+  stats->primitive_pairs  = sum[2];
+  stats->candidates       = sum[3];
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -920,11 +915,11 @@ PetscErrorCode ClothSelfContactGetContactField(ClothSelfContact sc, Vec field, P
 
 PetscErrorCode ClothSelfContactView(ClothSelfContact sc, PetscViewer viewer)
 {
-  PetscInt64 local[9] = {sc->contacts_found, sc->rank == 0 ? sc->impulses : 0, sc->nremote, sc->candidates_built, sc->edge_contacts_found, sc->tile_pairs, sc->tile_pairs_apart, sc->tile_pairs_kept, sc->primitive_pairs_total}, sum[9];
+  PetscInt64 local[8] = {sc->contacts_found, sc->rank == 0 ? sc->impulses : 0, sc->nremote, sc->candidates_built, sc->edge_contacts_found, sc->tile_pairs, sc->tile_pairs_apart, sc->primitive_pairs_total}, sum[8];
   PetscInt   cmax;
 
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Allreduce(local, sum, 9, MPIU_INT64, MPI_SUM, sc->comm));
+  PetscCallMPI(MPI_Allreduce(local, sum, 8, MPIU_INT64, MPI_SUM, sc->comm));
   PetscCallMPI(MPI_Allreduce(&sc->candidates_max, &cmax, 1, MPIU_INT, MPI_MAX, sc->comm));
   if (!sc->enabled) {
     PetscCall(PetscViewerASCIIPrintf(viewer, "Self-collision: off\n"));
@@ -938,10 +933,9 @@ PetscErrorCode ClothSelfContactView(ClothSelfContact sc, PetscViewer viewer)
   PetscCall(PetscViewerASCIIPrintf(viewer, "  candidates (velocity margin %g x thickness): found %" PetscInt_FMT " times, %.1f per search (%.3f per particle), at most %" PetscInt_FMT " on a rank\n", (double)sc->velocity_margin, sc->builds,
                                    sc->builds ? (double)sum[3] / (double)sc->builds : 0.0, sc->builds ? (double)sum[3] / (double)sc->builds / (double)sc->layout.nglobal : 0.0, cmax));
   PetscCall(PetscViewerASCIIPrintf(viewer,
-                                   "  broad phase (tiles of %d x %d cells, skin %g x thickness): %.1f pairs of tiles near each other a search, %.1f %% of them proved apart, %.1f %% keeping their pairs of primitives from the last step; %.1f pairs of "
-                                   "primitives (%.3f per particle) a search\n",
-                                   SELF_CONTACT_TILE, SELF_CONTACT_TILE, (double)sc->skin, sc->builds ? (double)sum[5] / (double)sc->builds : 0.0, sum[5] ? 100.0 * (double)sum[6] / (double)sum[5] : 0.0,
-                                   sum[5] ? 100.0 * (double)sum[7] / (double)sum[5] : 0.0, sc->builds ? (double)sum[8] / (double)sc->builds : 0.0, sc->builds ? (double)sum[8] / (double)sc->builds / (double)sc->layout.nglobal : 0.0));
+                                   "  broad phase (tiles of %d x %d cells): %.1f pairs of tiles near each other a search, %.1f %% of them proved apart; %.1f pairs of primitives (%.3f per particle) a search to the narrow phase\n",
+                                   SELF_CONTACT_TILE, SELF_CONTACT_TILE, sc->builds ? (double)sum[5] / (double)sc->builds : 0.0, sum[5] ? 100.0 * (double)sum[6] / (double)sum[5] : 0.0, sc->builds ? (double)sum[7] / (double)sc->builds : 0.0,
+                                   sc->builds ? (double)sum[7] / (double)sc->builds / (double)sc->layout.nglobal : 0.0));
   if (sc->friction)
     PetscCall(PetscViewerASCIIPrintf(viewer, "  friction between layers: regularised Coulomb, mu %g, eps_v %g m/s, %" PetscInt_FMT " load sweeps\n", (double)sc->friction_coefficient, (double)sc->friction_velocity, sc->friction_load_sweeps));
   else

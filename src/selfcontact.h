@@ -66,11 +66,11 @@ PetscErrorCode ClothSelfContactUpdate(ClothSelfContact sc, PetscReal h);
 /* The same search within radius (no travel) and without touching the matrix pattern; for tests. */
 PetscErrorCode ClothSelfContactFind(ClothSelfContact sc, PetscReal radius);
 /* What the searches did since set-up, summed over ranks: how often the candidates were found anew, and over those
-   searches the pairs of tiles near each other, those proved apart and those whose pairs of primitives were kept from
-   the last step, the pairs of primitives given to the narrow phase and the candidates it kept. */
+   searches the pairs of tiles near each other and those proved apart, the pairs of primitives given to the narrow
+   phase and the candidates it kept. */
 typedef struct {
   PetscInt   builds;
-  PetscInt64 tile_pairs, tile_pairs_apart, tile_pairs_kept, primitive_pairs, candidates;
+  PetscInt64 tile_pairs, tile_pairs_apart, primitive_pairs, candidates;
 } ClothSelfContactStatistics;
 /* Collective. */
 PetscErrorCode ClothSelfContactGetStatistics(ClothSelfContact sc, ClothSelfContactStatistics *stats);

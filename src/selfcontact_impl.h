@@ -18,14 +18,6 @@ typedef struct {
   PetscInt piece, ti, tj, i0, j0, i1, j1, ncells;
 } SelfContactTile;
 
-/* A pair of primitives of two tiles near each other: a particle a and a triangle b, or edges a < b. */
-typedef struct {
-  ClothContactKind kind;
-  PetscInt         a, b;
-} SelfContactPrimitivePair;
-
-typedef struct _n_SelfContactSnapshot *SelfContactSnapshot; /* selfcontact_tiles.c */
-
 /* A contact's couplings in the implicit system: h2 a_j a_k S_j M S_k between its particles (contact-local), M its
    stiffness (and friction Jacobian) times the step's factors, S their constraint filters (row-major). */
 typedef struct {
@@ -33,7 +25,6 @@ typedef struct {
   PetscInt  local[SELF_CONTACT_NP];   /* contact-local */
   PetscInt  local_c[SELF_CONTACT_NP]; /* owned, then the place among the couplings' remote particles (SetCouplingScatter) */
 } SelfContactCoupling;
-typedef struct _n_SelfContactTilePair *SelfContactTilePair; /* selfcontact_tiles.c */
 
 /* A pair of primitives of the candidate list: kind and particles as in ClothContact (natural numbering), and their
    contact-local indices. */
@@ -52,7 +43,6 @@ struct _n_ClothSelfContact {
   PetscMPIInt               size, rank;
   PetscBool                 enabled, view, setup;
   PetscReal                 thickness, stiffness, min_gap;
-  PetscReal                 skin;                 /* kept pairs of primitives: relative motion and deformation allowed before they are found again, as a fraction of the thickness */
   PetscReal                 velocity_margin;      /* candidates: change of a displacement over the step allowed before they are found again, as a fraction of the thickness */
   PetscBool                 friction;             /* regularised Coulomb friction between layers in the implicit step */
   PetscReal                 friction_coefficient; /* mu */
@@ -88,11 +78,6 @@ struct _n_ClothSelfContact {
   PetscInt                 *tile_present, *tile_mark; /* per tile: its index among the present tiles of the search (-1: none); the query that last visited a present tile */
   PetscInt                 *present_tiles, npresent_tiles, maxpresent_tiles;
   PetscInt                  visit;
-  SelfContactSnapshot      *snapshots;   /* per tile (NULL: none yet) */
-  SelfContactTilePair       kept, fresh; /* pairs of tiles with their pairs of primitives: of the last broad phase (sorted by key), and the one under way */
-  PetscInt                  nkept, maxkept, nfresh, maxfresh;
-  SelfContactPrimitivePair *kept_pairs, *pairs; /* their pairs of primitives */
-  PetscInt                  nkept_pairs, maxkept_pairs, npairs, maxpairs;
   PetscInt                 *scratch_ids, *scratch_ij; /* room (scratch_room each) for the primitives of two tiles, their particles' grid positions and their boxes */
   PetscInt                  scratch_room;
   PetscReal                *scratch_boxes;
@@ -121,8 +106,8 @@ struct _n_ClothSelfContact {
   PetscInt              builds;     /* statistics: searches that found candidates anew, candidates summed over them and the most at one (this rank) */
   PetscInt64            candidates_built;
   PetscInt              candidates_max;
-  PetscInt64            primitive_pairs_total;                         /* statistics: pairs of primitives given to the narrow phase, summed over searches */
-  PetscInt64            tile_pairs, tile_pairs_apart, tile_pairs_kept; /* statistics: pairs of tiles whose boxes overlapped, those proved apart, those whose pairs of primitives were kept */
+  PetscInt64            primitive_pairs_total; /* statistics: pairs of primitives given to the narrow phase, summed over searches */
+  PetscInt64            tile_pairs, tile_pairs_apart; /* statistics: pairs of tiles whose boxes overlapped, those proved apart */
   PetscInt             *ring;                                          /* per piece: particles this many grid rings apart or closer never collide (SelfContactSetExclusionRings) */
 
   /* the couplings of the last assembly (AddContactStiffness, MultCoupling): per contact with a share in it, its record */
@@ -154,12 +139,15 @@ PetscErrorCode SelfContactBuildTiles(ClothSelfContact sc, Scene scene, ClothMode
 PetscErrorCode SelfContactDestroyTiles(ClothSelfContact sc);
 /* The tile of natural particle g. */
 PetscInt SelfContactParticleTile(const ClothSelfContact sc, PetscInt g);
-/* The pairs of primitives that may come within rho during the step at the contact-local state (x, dx), into
-   sc->kept_pairs[0 .. nkept_pairs): particle-triangle pairs of this rank's particles and edge pairs this rank handles,
-   allowed by the exclusion ring, whose boxes over the step come within rho of each other (and more: pairs of tiles
-   keep theirs while they move as one by less than skin). region: the box of every present particle over the step,
-   inflated by rho. */
-PetscErrorCode SelfContactPairPrimitives(ClothSelfContact sc, const PetscReal region[6], PetscReal rho, PetscReal skin);
+/* Gives SelfContactTestPair the pairs of primitives that may come within rho during the step at the contact-local
+   state (x, dx): particle-triangle pairs of this rank's particles and edge pairs this rank handles, allowed by the
+   exclusion ring, whose boxes over the step (relative to their tiles' mean motion) come within rho of each other.
+   region: the box of every present particle over the step, inflated by rho. */
+PetscErrorCode SelfContactPairPrimitives(ClothSelfContact sc, const PetscReal region[6], PetscReal rho);
+/* The narrow phase of one pair of primitives (a particle a and triangle b, or edges a < b): a candidate when it comes
+   within rho during the step (at the contact-local state x, dx), its particle-triangle pair holding the particle's
+   nearest point on the fabric, its edge pair's closest points inside both edges. */
+PetscErrorCode SelfContactTestPair(ClothSelfContact sc, ClothContactKind kind, PetscInt a, PetscInt b, PetscReal rho);
 /* The box of natural particles v[0..nv) over the step, their displacements less u (NULL: none), inflated by inflate. */
 void SelfContactSweptBox(ClothSelfContact sc, const PetscInt v[], PetscInt nv, PetscReal inflate, const PetscReal u[3], PetscReal box[6]);
 /* Whether primitives with natural particles pa[0..na) and pb[0..nb) lie within their piece's exclusion ring (or in one

@@ -624,37 +624,31 @@ PetscBool SelfContactHandlesEdgePair(ClothSelfContact sc, PetscInt e1, PetscInt 
   return sc->layout.part[p[(e1 + e2) % 4]] == sc->rank ? PETSC_TRUE : PETSC_FALSE;
 }
 
-/* The candidates of this step's pairs of primitives (SelfContactPairPrimitives, in sc->kept_pairs): those that come
-   within rho during the step (Within), a particle-triangle pair where the triangle holds the particle's nearest point on
-   the fabric (NearestOnFabric), an edge pair whose closest points lie inside both edges (EdgePairScale). */
-static PetscErrorCode TestPrimitivePairs(ClothSelfContact sc, PetscReal rho)
+PetscErrorCode SelfContactTestPair(ClothSelfContact sc, ClothContactKind kind, PetscInt a, PetscInt b, PetscReal rho)
 {
   const SelfContactPositions here = {sc->x, sc->contact_index};
+  const PetscReal           *xs[SELF_CONTACT_NP], *ds[SELF_CONTACT_NP];
+  ClothContact               contact;
+  PetscBool                  hit;
 
   PetscFunctionBeginUser;
-  for (PetscInt k = 0; k < sc->nkept_pairs; k++) {
-    const SelfContactPrimitivePair *pair = &sc->kept_pairs[k];
-    const PetscReal                *xs[SELF_CONTACT_NP], *ds[SELF_CONTACT_NP];
-    ClothContact                    contact;
-    PetscBool                       hit;
-
-    if (pair->kind == CLOTH_CONTACT_POINT_TRIANGLE) {
-      contact.p[0] = pair->a;
-      for (PetscInt v = 0; v < 3; v++) contact.p[1 + v] = sc->tri[3 * pair->b + v];
-    } else {
-      contact.p[0] = sc->edge[2 * pair->a], contact.p[1] = sc->edge[2 * pair->a + 1];
-      contact.p[2] = sc->edge[2 * pair->b], contact.p[3] = sc->edge[2 * pair->b + 1];
-    }
-    for (PetscInt v = 0; v < SELF_CONTACT_NP; v++) xs[v] = &sc->x[3 * sc->contact_index[contact.p[v]]], ds[v] = &sc->dx[3 * sc->contact_index[contact.p[v]]];
-    if (pair->kind == CLOTH_CONTACT_POINT_TRIANGLE) {
-      TestPointTriangle(xs, ds, rho, &contact, &hit);
-      if (hit) hit = NearestOnFabric(sc, &here, pair->a, xs[0], pair->b);
-    } else {
-      TestEdgeEdge(xs, ds, rho, &contact, &hit);
-      if (hit) hit = contact.scale > 0 ? PETSC_TRUE : PETSC_FALSE;
-    }
-    if (hit) PetscCall(AppendCandidate(sc, pair->kind, contact.p));
+  sc->primitive_pairs_total++;
+  if (kind == CLOTH_CONTACT_POINT_TRIANGLE) {
+    contact.p[0] = a;
+    for (PetscInt v = 0; v < 3; v++) contact.p[1 + v] = sc->tri[3 * b + v];
+  } else {
+    contact.p[0] = sc->edge[2 * a], contact.p[1] = sc->edge[2 * a + 1];
+    contact.p[2] = sc->edge[2 * b], contact.p[3] = sc->edge[2 * b + 1];
   }
+  for (PetscInt v = 0; v < SELF_CONTACT_NP; v++) xs[v] = &sc->x[3 * sc->contact_index[contact.p[v]]], ds[v] = &sc->dx[3 * sc->contact_index[contact.p[v]]];
+  if (kind == CLOTH_CONTACT_POINT_TRIANGLE) {
+    TestPointTriangle(xs, ds, rho, &contact, &hit);
+    if (hit) hit = NearestOnFabric(sc, &here, a, xs[0], b);
+  } else {
+    TestEdgeEdge(xs, ds, rho, &contact, &hit);
+    if (hit) hit = contact.scale > 0 ? PETSC_TRUE : PETSC_FALSE;
+  }
+  if (hit) PetscCall(AppendCandidate(sc, kind, contact.p));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -740,7 +734,7 @@ static PetscErrorCode LargestTravel(ClothSelfContact sc, Vec velocity, PetscReal
 }
 
 /* Finds the candidates of searches within radius at the current positions, for displacements over the step that
-   differ from h velocity by at most the margin (skin x radius) per particle: the pairs that come within
+   differ from h velocity by at most the margin (velocity_margin x radius) per particle: the pairs that come within
    rho = radius + 2 margin during the step, each found from the boxes its primitives sweep over the step, so that the
    particles' common motion adds nothing; with the exchange of the particles near other ranks and the cell grids.
    *ok false: the state is not finite (no candidates). Collective. */
@@ -781,8 +775,7 @@ static PetscErrorCode BuildCandidates(ClothSelfContact sc, PetscReal radius, Vec
              "Self-collision: the region that the particles sweep over a step of %g s, widened by the contact radius %g m, is too large for a cell grid: particle %" PetscInt_FMT
              " (natural numbering) reaches %g m from the origin. The state has diverged, or the self-collision thickness is far too large",
              (double)h, (double)radius, farthest, (double)far);
-  PetscCall(SelfContactPairPrimitives(sc, region, rho, sc->skin * radius));
-  PetscCall(TestPrimitivePairs(sc, rho));
+  PetscCall(SelfContactPairPrimitives(sc, region, rho));
   sc->any_candidates = sc->ncandidates > 0 ? PETSC_TRUE : PETSC_FALSE;
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &sc->any_candidates, 1, MPIU_BOOL, MPI_LOR, sc->comm));
   PetscCall(PetscArraycpy(sc->x0, sc->x, 3 * sc->layout.nlocal));

@@ -1,16 +1,18 @@
 /* ClothSelfContact, the broad phase of its search (see selfcontact_impl.h): the fabric cut into tiles of
    SELF_CONTACT_TILE x SELF_CONTACT_TILE grid cells, the pairs of tiles near each other found on a cell grid of their
-   boxes, and for each such pair the pairs of primitives (particle-triangle, edge-edge) whose boxes come close, kept
-   over steps while the two tiles move as one.
+   boxes, and for each such pair the pairs of primitives (particle-triangle, edge-edge) whose boxes come close, each
+   handed to the narrow phase as it is found (nothing per pair of primitives is stored).
 
    Why tiles: the candidates must follow the geometry, not the speed. A primitive's own box swept over the step grows
    with its speed, and a search of every primitive against its spatial neighbours at every step pays for the whole
-   area of every layer (its own flat neighbourhood, which the exclusion rule then throws away). Tiles move as units:
-   a pair of tiles whose relative motion and internal deformation since its primitives were paired stays below the
-   skin keeps its pairs (a sheet falling or sliding as a whole keeps them all), and neighbouring tiles of a layer
-   that is flat or gently curved are proved to hold no allowed pair at all (TilesApart), so the work of a step
-   follows the folds and the contacts, not the fabric's area or speed. Every test is conservative: the contacts are
-   those of a search from scratch. */
+   area of every layer (its own flat neighbourhood, which the exclusion rule then throws away). A pair of tiles sweeps
+   its boxes relative to its own mean motion (a sheet falling or sliding as a whole sweeps nothing), and neighbouring
+   tiles of a layer that is flat or gently curved are proved to hold no allowed pair at all (TilesApart), so the work
+   of a step follows the folds and the contacts, not the fabric's area or speed. The boxes reach only the search
+   radius: a flat layer's own neighbours beyond the exclusion ring lie farther than that, so they cost box tests but
+   no narrow-phase tests and no memory (pairs of primitives kept over steps would have to reach farther, by the
+   motion they allow, and hold that flat neighbourhood: 177 pairs a particle at 513 x 513). Every test is
+   conservative: the contacts are those of a search from scratch. */
 #include "selfcontact_impl.h"
 #include "log.h"
 #include "vec3.h"
@@ -100,12 +102,12 @@ PetscErrorCode SelfContactBuildTiles(ClothSelfContact sc, Scene scene, ClothMode
   for (PetscInt g = 0; g < m->nparticles; g++) tile[g] = SelfContactParticleTile(sc, g);
   PetscCall(TileIncidence(sc->ntiles, m->nparticles, tile, &sc->tile_particle_start, &sc->tile_particle_of));
   PetscCall(PetscFree(tile));
-  PetscCall(PetscMalloc3(sc->ntiles, &sc->tile_present, sc->ntiles, &sc->tile_mark, sc->ntiles, &sc->snapshots));
+  PetscCall(PetscMalloc2(sc->ntiles, &sc->tile_present, sc->ntiles, &sc->tile_mark));
   n = 0;
   for (PetscInt t = 0; t < sc->ntiles; t++) n = PetscMax(n, PetscMax(sc->tile_tri_start[t + 1] - sc->tile_tri_start[t], sc->tile_edge_start[t + 1] - sc->tile_edge_start[t]));
   sc->scratch_room = n + 1;
   PetscCall(PetscMalloc3(2 * sc->scratch_room, &sc->scratch_ids, 12 * sc->scratch_room, &sc->scratch_ij, 12 * sc->scratch_room, &sc->scratch_boxes)); /* two tiles' primitives */
-  for (PetscInt t = 0; t < sc->ntiles; t++) sc->tile_present[t] = -1, sc->tile_mark[t] = 0, sc->snapshots[t] = NULL;
+  for (PetscInt t = 0; t < sc->ntiles; t++) sc->tile_present[t] = -1, sc->tile_mark[t] = 0;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -126,29 +128,15 @@ static PetscInt TileClosure(const ClothSelfContact sc, PetscInt t, PetscInt g[])
 /* Tile states                                                                                      */
 
 /* What a step knows of a present tile (one with a particle present here): whether its whole rectangle is here (every
-   particle present, every cell in the pattern) and any of it is this rank's. For a whole tile: its motion as a rigid
-   body since its snapshot, the rotation R (3 x 3, row-major) and the centroids c and ce of its positions at the step's
-   start and after the step's displacements, and its deformation def, the largest distance of a position from where
-   that rigid motion takes its snapshot position; and for TilesApart, how far its map from grid indices to space is from
-   affine (G, the mean of its triangles' gradients, 3 x 2, m per index, d/di then d/dj; eps, the largest Frobenius
-   distance of a triangle's gradient from G), and its displacements' mean mdx and largest departure from it, dev. Its
+   particle present, every cell in the pattern) and any of it is this rank's; its displacements' mean mdx. For a whole
+   tile, for TilesApart: how far its map from grid indices to space is from affine (G, the mean of its triangles' gradients, 3 x 2, m per index, d/di then d/dj; eps, the largest Frobenius
+   distance of a triangle's gradient from G), and its displacements' largest departure from their mean, dev. Its
    box (over the step, inflated) is kept apart, for the cell grid. */
 typedef struct {
   PetscInt  tile;
   PetscBool whole, owned;
-  PetscReal R[9], c[3], ce[3], def;
   PetscReal G[6], eps, mdx[3], dev;
 } SelfContactTileState;
-
-/* A tile's snapshot, taken when its deformation outgrows a quarter of the skin: the orthonormal frame F0 of its mean
-   gradient then (row-major: the rows are the frame's axes) and its rectangle's positions at the step's start and after
-   the step's displacements relative to their centroids (6 per particle), and the largest of those distances, radius.
-   The pairs of primitives found for its pairs of tiles hold while it keeps its epoch. */
-struct _n_SelfContactSnapshot {
-  PetscInt  epoch;
-  PetscReal F0[9], radius;
-  PetscReal rel[6 * SELF_CONTACT_CLOSURE];
-};
 
 /* The gradient (3 x 2) of the affine map from grid indices to positions over triangle t (all present). */
 static void TriangleGradient(ClothSelfContact sc, PetscInt t, PetscReal grad[6])
@@ -190,126 +178,14 @@ static void TileShape(ClothSelfContact sc, PetscInt t, SelfContactTileState *s)
   }
 }
 
-/* The orthonormal frame (rows) of the mean gradient G: along d/di, then across it in the tangent plane, then normal. */
-static void TileFrame(const PetscReal G[6], PetscReal F[9])
-{
-  PetscReal n0 = PetscSqrtReal(Dot3(G, G)), d, n1;
-
-  for (PetscInt k = 0; k < 3; k++) F[k] = G[k] / n0;
-  d = Dot3(F, G + 3);
-  for (PetscInt k = 0; k < 3; k++) F[3 + k] = G[3 + k] - d * F[k];
-  n1 = PetscSqrtReal(Dot3(F + 3, F + 3));
-  for (PetscInt k = 0; k < 3; k++) F[3 + k] /= n1;
-  Cross3(F, F + 3, F + 6);
-}
-
-/* C = A^T B (3 x 3, row-major) */
-static void MultTransposed3(const PetscReal A[9], const PetscReal B[9], PetscReal C[9])
-{
-  for (PetscInt r = 0; r < 3; r++)
-    for (PetscInt c = 0; c < 3; c++) C[3 * r + c] = A[r] * B[c] + A[3 + r] * B[3 + c] + A[6 + r] * B[6 + c];
-}
-
-/* y = A x, or A^T x (3 x 3, row-major) */
-static void Mult3(const PetscReal A[9], const PetscReal x[3], PetscBool transpose, PetscReal y[3])
-{
-  for (PetscInt r = 0; r < 3; r++) y[r] = transpose ? A[r] * x[0] + A[3 + r] * x[1] + A[6 + r] * x[2] : A[3 * r] * x[0] + A[3 * r + 1] * x[1] + A[3 * r + 2] * x[2];
-}
-
-/* The rotation nearest to the 3 x 3 matrix H (row-major; its orthogonal polar factor), by Newton's iteration
-   X <- (X + X^-T) / 2; false when H is (nearly) singular or a reflection. */
-static PetscBool NearestRotation(const PetscReal H[9], PetscReal R[9])
-{
-  PetscReal X[9], norm = 0;
-
-  for (PetscInt k = 0; k < 9; k++) norm += H[k] * H[k];
-  if (!(norm > 0)) return PETSC_FALSE;
-  for (PetscInt k = 0; k < 9; k++) X[k] = H[k] / PetscSqrtReal(norm / 3);
-  for (PetscInt it = 0; it < 30; it++) {
-    const PetscReal det = X[0] * (X[4] * X[8] - X[5] * X[7]) - X[1] * (X[3] * X[8] - X[5] * X[6]) + X[2] * (X[3] * X[7] - X[4] * X[6]);
-    PetscReal       C[9], change = 0; /* C = cofactors of X: X^-T = C / det */
-
-    if (!(det > 1e-12)) return PETSC_FALSE;
-    C[0] = X[4] * X[8] - X[5] * X[7], C[1] = X[5] * X[6] - X[3] * X[8], C[2] = X[3] * X[7] - X[4] * X[6];
-    C[3] = X[2] * X[7] - X[1] * X[8], C[4] = X[0] * X[8] - X[2] * X[6], C[5] = X[1] * X[6] - X[0] * X[7];
-    C[6] = X[1] * X[5] - X[2] * X[4], C[7] = X[2] * X[3] - X[0] * X[5], C[8] = X[0] * X[4] - X[1] * X[3];
-    for (PetscInt k = 0; k < 9; k++) {
-      const PetscReal next = 0.5 * (X[k] + C[k] / det);
-      change += PetscSqr(next - X[k]);
-      X[k] = next;
-    }
-    if (change < 1e-28) break;
-  }
-  for (PetscInt k = 0; k < 9; k++) R[k] = X[k];
-  return PETSC_TRUE;
-}
-
-/* The rigid motion (R, c, ce) of a whole tile since its snapshot, the rotation that fits its rectangle's positions
-   g[0..n) best (least squares, Kabsch: the polar factor of sum (x - c) y^T, with the normals' product added so that a
-   flat tile fixes it too), and its deformation def, the largest distance of a position from where that motion takes
-   its snapshot position; infinite without a snapshot or a fit. */
-static void TileMotion(ClothSelfContact sc, const SelfContactSnapshot snap, const PetscInt g[], PetscInt n, SelfContactTileState *s)
-{
-  PetscReal F[9], H[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0}, weight = 0;
-
-  s->def = PETSC_INFINITY;
-  if (!snap) return;
-  for (PetscInt k = 0; k < n; k++) {
-    const PetscReal *x = &sc->x[3 * sc->contact_index[g[k]]], *y = &snap->rel[6 * k];
-    for (PetscInt r = 0; r < 3; r++)
-      for (PetscInt c = 0; c < 3; c++) H[3 * r + c] += (x[r] - s->c[r]) * y[c];
-    weight += Dot3(y, y);
-  }
-  TileFrame(s->G, F);
-  for (PetscInt r = 0; r < 3; r++)
-    for (PetscInt c = 0; c < 3; c++) H[3 * r + c] += weight / n * F[6 + r] * snap->F0[6 + c];
-  if (!NearestRotation(H, s->R)) return;
-  s->def = 0;
-  for (PetscInt k = 0; k < n; k++) {
-    const PetscReal *x = &sc->x[3 * sc->contact_index[g[k]]], *d = &sc->dx[3 * sc->contact_index[g[k]]];
-    PetscReal        ry[3], rye[3], e2 = 0, ee2 = 0;
-
-    Mult3(s->R, &snap->rel[6 * k], PETSC_FALSE, ry);
-    Mult3(s->R, &snap->rel[6 * k + 3], PETSC_FALSE, rye);
-    for (PetscInt c = 0; c < 3; c++) e2 += PetscSqr(x[c] - s->c[c] - ry[c]), ee2 += PetscSqr(x[c] + d[c] - s->ce[c] - rye[c]);
-    s->def = PetscMax(s->def, PetscSqrtReal(PetscMax(e2, ee2)));
-  }
-}
-
-/* A new snapshot of a whole tile (a new epoch: its pairs of primitives are found again). */
-static PetscErrorCode TileSnapshot(ClothSelfContact sc, PetscInt t, const PetscInt g[], PetscInt n, SelfContactTileState *s)
-{
-  SelfContactSnapshot snap = sc->snapshots[t];
-
-  PetscFunctionBeginUser;
-  if (!snap) {
-    PetscCall(PetscNew(&sc->snapshots[t]));
-    snap = sc->snapshots[t];
-  }
-  snap->epoch++;
-  TileFrame(s->G, snap->F0);
-  snap->radius = 0;
-  for (PetscInt k = 0; k < n; k++) {
-    const PetscReal *x = &sc->x[3 * sc->contact_index[g[k]]], *d = &sc->dx[3 * sc->contact_index[g[k]]];
-    PetscReal       *y = &snap->rel[6 * k];
-    for (PetscInt c = 0; c < 3; c++) y[c] = x[c] - s->c[c], y[3 + c] = x[c] + d[c] - s->ce[c];
-    snap->radius = PetscMax(snap->radius, PetscSqrtReal(PetscMax(Dot3(y, y), Dot3(y + 3, y + 3))));
-  }
-  for (PetscInt k = 0; k < 9; k++) s->R[k] = (k % 4 == 0) ? 1.0 : 0.0;
-  s->def = 0;
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-/* The state and box (over the step, inflated by inflate) of present tile t; a whole tile whose deformation outgrew a
-   quarter of the skin takes a new snapshot. */
-static PetscErrorCode TileState(ClothSelfContact sc, PetscInt t, PetscReal inflate, PetscReal skin, SelfContactTileState *s, PetscReal box[6])
+/* The state and box (over the step, inflated by inflate) of present tile t. */
+static void TileState(ClothSelfContact sc, PetscInt t, PetscReal inflate, SelfContactTileState *s, PetscReal box[6])
 {
   const SelfContactTile *tile = &sc->tiles[t];
   PetscInt               g[SELF_CONTACT_CLOSURE], n = TileClosure(sc, t, g), present = 0, owned = 0;
 
-  PetscFunctionBeginUser;
   s->tile = t;
-  for (PetscInt c = 0; c < 3; c++) box[c] = PETSC_MAX_REAL, box[3 + c] = -PETSC_MAX_REAL, s->c[c] = s->ce[c] = s->mdx[c] = 0;
+  for (PetscInt c = 0; c < 3; c++) box[c] = PETSC_MAX_REAL, box[3 + c] = -PETSC_MAX_REAL, s->mdx[c] = 0;
   for (PetscInt k = 0; k < n; k++) {
     const PetscInt i = sc->contact_index[g[k]];
     if (i < 0) continue;
@@ -318,14 +194,13 @@ static PetscErrorCode TileState(ClothSelfContact sc, PetscInt t, PetscReal infla
     for (PetscInt c = 0; c < 3; c++) {
       box[c]     = PetscMin(box[c], PetscMin(sc->x[3 * i + c], sc->x[3 * i + c] + sc->dx[3 * i + c]));
       box[3 + c] = PetscMax(box[3 + c], PetscMax(sc->x[3 * i + c], sc->x[3 * i + c] + sc->dx[3 * i + c]));
-      s->c[c] += sc->x[3 * i + c] / n, s->mdx[c] += sc->dx[3 * i + c] / n;
+      s->mdx[c] += sc->dx[3 * i + c] / n;
     }
   }
-  for (PetscInt c = 0; c < 3; c++) box[c] -= inflate, box[3 + c] += inflate, s->ce[c] = s->c[c] + s->mdx[c];
+  for (PetscInt c = 0; c < 3; c++) box[c] -= inflate, box[3 + c] += inflate;
   s->owned = owned > 0 ? PETSC_TRUE : PETSC_FALSE;
   s->whole = (present == n && tile->ncells == (tile->i1 - tile->i0) * (tile->j1 - tile->j0)) ? PETSC_TRUE : PETSC_FALSE;
-  s->def   = PETSC_INFINITY;
-  if (!s->whole) PetscFunctionReturn(PETSC_SUCCESS);
+  if (!s->whole) return;
   s->dev = 0;
   for (PetscInt k = 0; k < n; k++) {
     const PetscReal *d    = &sc->dx[3 * sc->contact_index[g[k]]];
@@ -333,9 +208,6 @@ static PetscErrorCode TileState(ClothSelfContact sc, PetscInt t, PetscReal infla
     s->dev                = PetscMax(s->dev, PetscSqrtReal(Dot3(e, e)));
   }
   TileShape(sc, t, s);
-  TileMotion(sc, sc->snapshots[t], g, n, s);
-  if (s->def > 0.25 * skin) PetscCall(TileSnapshot(sc, t, g, n, s));
-  PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 /* The smallest singular value of the 3 x 2 matrix G (column-major). */
@@ -425,15 +297,6 @@ static inline PetscBool BoxesOverlap(const PetscReal a[6], const PetscReal b[6])
   return (a[3] < b[0] || b[3] < a[0] || a[4] < b[1] || b[4] < a[1] || a[5] < b[2] || b[5] < a[2]) ? PETSC_FALSE : PETSC_TRUE;
 }
 
-static PetscErrorCode AppendPrimitivePair(ClothSelfContact sc, ClothContactKind kind, PetscInt a, PetscInt b)
-{
-  PetscFunctionBeginUser;
-  if (sc->npairs == sc->maxpairs) PetscCall(SelfContactGrowArray(sizeof(SelfContactPrimitivePair), sc->npairs, &sc->maxpairs, 256, &sc->pairs));
-  sc->pairs[sc->npairs].kind = kind, sc->pairs[sc->npairs].a = a, sc->pairs[sc->npairs].b = b;
-  sc->npairs++;
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
 #define SELF_CONTACT_TILE_CELLS (SELF_CONTACT_TILE * SELF_CONTACT_TILE)
 
 /* A tile's primitives of one kind present here, grouped by the tile's cells (a primitive's cell: that at its lowest
@@ -513,8 +376,9 @@ static PetscInt TilesRing(ClothSelfContact sc, PetscInt P, PetscInt Q)
   return sc->tiles[P].piece == sc->tiles[Q].piece ? sc->ring[sc->tiles[P].piece] : -1;
 }
 
-/* Particle-triangle pairs of the owned particles of tile P against the triangles tq of tile Q (boxes swept less u). */
-static PetscErrorCode PairPointsWithTriangles(ClothSelfContact sc, PetscInt P, PetscInt Q, const PetscReal u[3], const TilePrimitives *tq)
+/* Particle-triangle pairs of the owned particles of tile P against the triangles tq of tile Q (boxes swept less u) to
+   the narrow phase within rho. */
+static PetscErrorCode PairPointsWithTriangles(ClothSelfContact sc, PetscInt P, PetscInt Q, const PetscReal u[3], const TilePrimitives *tq, PetscReal rho)
 {
   const SelfContactTile *tile  = &sc->tiles[Q];
   const PetscInt         ncell = (tile->i1 - tile->i0) * (tile->j1 - tile->j0), ring = TilesRing(sc, P, Q);
@@ -529,15 +393,15 @@ static PetscErrorCode PairPointsWithTriangles(ClothSelfContact sc, PetscInt P, P
     for (PetscInt c = 0; c < ncell; c++) {
       if (!BoxesOverlap(box, &tq->cell[6 * c])) continue;
       for (PetscInt k = tq->start[c]; k < tq->start[c + 1]; k++)
-        if (!WithinRing(ij, 1, &tq->ij[6 * k], 3, ring) && BoxesOverlap(box, &tq->boxes[6 * k])) PetscCall(AppendPrimitivePair(sc, CLOTH_CONTACT_POINT_TRIANGLE, g, tq->ids[k]));
+        if (!WithinRing(ij, 1, &tq->ij[6 * k], 3, ring) && BoxesOverlap(box, &tq->boxes[6 * k])) PetscCall(SelfContactTestPair(sc, CLOTH_CONTACT_POINT_TRIANGLE, g, tq->ids[k], rho));
     }
   }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 /* Edge-edge pairs of the edges of cells a (of ep) and b (of eq) that this rank handles (the same cell of the same tile:
-   each pair once); ring: the exclusion ring between their tiles. */
-static PetscErrorCode PairCellEdges(ClothSelfContact sc, const TilePrimitives *ep, PetscInt a, const TilePrimitives *eq, PetscInt b, PetscBool same, PetscInt ring)
+   each pair once), to the narrow phase within rho; ring: the exclusion ring between their tiles. */
+static PetscErrorCode PairCellEdges(ClothSelfContact sc, const TilePrimitives *ep, PetscInt a, const TilePrimitives *eq, PetscInt b, PetscBool same, PetscInt ring, PetscReal rho)
 {
   PetscFunctionBeginUser;
   for (PetscInt k1 = ep->start[a]; k1 < ep->start[a + 1]; k1++) {
@@ -548,133 +412,58 @@ static PetscErrorCode PairCellEdges(ClothSelfContact sc, const TilePrimitives *e
 
       if (WithinRing(&ep->ij[4 * k1], 2, &eq->ij[4 * k2], 2, ring) || !BoxesOverlap(&ep->boxes[6 * k1], &eq->boxes[6 * k2])) continue;
       p[0] = sc->edge[2 * first], p[1] = sc->edge[2 * first + 1], p[2] = sc->edge[2 * second], p[3] = sc->edge[2 * second + 1];
-      if (SelfContactHandlesEdgePair(sc, e1, e2, p)) PetscCall(AppendPrimitivePair(sc, CLOTH_CONTACT_EDGE_EDGE, first, second));
+      if (SelfContactHandlesEdgePair(sc, e1, e2, p)) PetscCall(SelfContactTestPair(sc, CLOTH_CONTACT_EDGE_EDGE, first, second, rho));
     }
   }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 /* Edge-edge pairs of tiles P and Q (edges ep, eq; the same tile: each pair once), cell pairs whose boxes overlap. */
-static PetscErrorCode PairEdges(ClothSelfContact sc, PetscInt P, PetscInt Q, const TilePrimitives *ep, const TilePrimitives *eq)
+static PetscErrorCode PairEdges(ClothSelfContact sc, PetscInt P, PetscInt Q, const TilePrimitives *ep, const TilePrimitives *eq, PetscReal rho)
 {
   const PetscInt np = (sc->tiles[P].i1 - sc->tiles[P].i0) * (sc->tiles[P].j1 - sc->tiles[P].j0), nq = (sc->tiles[Q].i1 - sc->tiles[Q].i0) * (sc->tiles[Q].j1 - sc->tiles[Q].j0), ring = TilesRing(sc, P, Q);
 
   PetscFunctionBeginUser;
   for (PetscInt a = 0; a < np; a++)
     for (PetscInt b = P == Q ? a : 0; b < nq; b++)
-      if (BoxesOverlap(&ep->cell[6 * a], &eq->cell[6 * b])) PetscCall(PairCellEdges(sc, ep, a, eq, b, (P == Q && a == b) ? PETSC_TRUE : PETSC_FALSE, ring));
+      if (BoxesOverlap(&ep->cell[6 * a], &eq->cell[6 * b])) PetscCall(PairCellEdges(sc, ep, a, eq, b, (P == Q && a == b) ? PETSC_TRUE : PETSC_FALSE, ring, rho));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* Appends to sc->pairs every pair of primitives of tiles P and Q (each pair once) that this rank handles, that the
-   exclusion ring allows and whose boxes over the step relative to u (the two tiles' mean displacement), inflated so
-   that together they reach reach, overlap. */
-static PetscErrorCode PairTiles(ClothSelfContact sc, PetscInt P, PetscInt Q, const PetscReal u[3], PetscReal reach)
+/* Gives the narrow phase (SelfContactTestPair within rho) every pair of primitives of tiles P and Q (each pair once)
+   that this rank handles, that the exclusion ring allows and whose boxes over the step relative to u (the two tiles'
+   mean displacement), inflated so that together they reach rho, overlap. */
+static PetscErrorCode PairTiles(ClothSelfContact sc, PetscInt P, PetscInt Q, const PetscReal u[3], PetscReal rho)
 {
   const PetscInt room = sc->scratch_room;
   TilePrimitives a, b;
 
   PetscFunctionBeginUser;
-  GatherTilePrimitives(sc, Q, 3, sc->tri, sc->tile_tri_start, sc->tile_tri_of, reach, u, sc->scratch_ids, sc->scratch_ij, sc->scratch_boxes, &b);
-  PetscCall(PairPointsWithTriangles(sc, P, Q, u, &b));
+  GatherTilePrimitives(sc, Q, 3, sc->tri, sc->tile_tri_start, sc->tile_tri_of, rho, u, sc->scratch_ids, sc->scratch_ij, sc->scratch_boxes, &b);
+  PetscCall(PairPointsWithTriangles(sc, P, Q, u, &b, rho));
   if (Q != P) {
-    GatherTilePrimitives(sc, P, 3, sc->tri, sc->tile_tri_start, sc->tile_tri_of, reach, u, sc->scratch_ids, sc->scratch_ij, sc->scratch_boxes, &a);
-    PetscCall(PairPointsWithTriangles(sc, Q, P, u, &a));
+    GatherTilePrimitives(sc, P, 3, sc->tri, sc->tile_tri_start, sc->tile_tri_of, rho, u, sc->scratch_ids, sc->scratch_ij, sc->scratch_boxes, &a);
+    PetscCall(PairPointsWithTriangles(sc, Q, P, u, &a, rho));
   }
-  GatherTilePrimitives(sc, P, 2, sc->edge, sc->tile_edge_start, sc->tile_edge_of, 0.5 * reach, u, sc->scratch_ids, sc->scratch_ij, sc->scratch_boxes, &a);
-  if (Q != P) GatherTilePrimitives(sc, Q, 2, sc->edge, sc->tile_edge_start, sc->tile_edge_of, 0.5 * reach, u, sc->scratch_ids + room, sc->scratch_ij + 6 * room, sc->scratch_boxes + 6 * room, &b);
-  PetscCall(PairEdges(sc, P, Q, &a, Q != P ? &b : &a));
+  GatherTilePrimitives(sc, P, 2, sc->edge, sc->tile_edge_start, sc->tile_edge_of, 0.5 * rho, u, sc->scratch_ids, sc->scratch_ij, sc->scratch_boxes, &a);
+  if (Q != P) GatherTilePrimitives(sc, Q, 2, sc->edge, sc->tile_edge_start, sc->tile_edge_of, 0.5 * rho, u, sc->scratch_ids + room, sc->scratch_ij + 6 * room, sc->scratch_boxes + 6 * room, &b);
+  PetscCall(PairEdges(sc, P, Q, &a, Q != P ? &b : &a, rho));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* ------------------------------------------------------------------------------------------------ */
-/* Pairs of tiles, kept over steps                                                                  */
-
-/* A pair of tiles (the lower-numbered first), its pairs of primitives pairs[start, start + n), and what they hold for:
-   the tiles' epochs, the sum of their deformations, and where the second tile lay in the first one's frame when they
-   were found: M = R_P^T R_Q, and the offsets R_P^T (c_Q - c_P) and R_P^T (ce_Q - ce_P). */
-struct _n_SelfContactTilePair {
-  PetscInt64 key; /* P ntiles + Q */
-  PetscInt   epoch[2];
-  PetscReal  M[9], offset[6], def;
-  PetscInt   start, n;
-};
-
-static int CompareTilePairs(const void *a, const void *b)
+/* The pairs of primitives of present tiles s1 and s2 (PairTiles, relative to their mean displacement). */
+static PetscErrorCode PairsOfTiles(ClothSelfContact sc, const SelfContactTileState *s1, const SelfContactTileState *s2, PetscReal rho)
 {
-  const PetscInt64 x = ((const struct _n_SelfContactTilePair *)a)->key, y = ((const struct _n_SelfContactTilePair *)b)->key;
-  return x < y ? -1 : (x > y ? 1 : 0);
-}
-
-/* The kept pair of tiles with this key from the last step (NULL: none). */
-static const struct _n_SelfContactTilePair *FindKeptPair(ClothSelfContact sc, PetscInt64 key)
-{
-  struct _n_SelfContactTilePair probe;
-
-  probe.key = key;
-  return (const struct _n_SelfContactTilePair *)bsearch(&probe, sc->kept, (size_t)sc->nkept, sizeof(probe), CompareTilePairs);
-}
-
-/* Where tile b lies in tile a's frame: M = R_a^T R_b and the offsets of its centroids (both whole). */
-static void RelativePlacement(const SelfContactTileState *a, const SelfContactTileState *b, PetscReal M[9], PetscReal offset[6])
-{
-  PetscReal dc[3] = {b->c[0] - a->c[0], b->c[1] - a->c[1], b->c[2] - a->c[2]}, dce[3] = {b->ce[0] - a->ce[0], b->ce[1] - a->ce[1], b->ce[2] - a->ce[2]};
-
-  MultTransposed3(a->R, b->R, M);
-  Mult3(a->R, dc, PETSC_TRUE, offset);
-  Mult3(a->R, dce, PETSC_TRUE, offset + 3);
-}
-
-/* Do the pairs of primitives kept for tiles a and b (states, a the first of the pair) still hold every pair that can
-   come within rho? Those left out were farther apart than rho + 2 skin when they were found (their boxes over the step
-   were). Distances do not depend on the frame: in a's frame, since then a's positions moved by at most its
-   deformations then and now, and b's by those of b plus the change of b's placement in a's frame, at most
-   |M - M_then| r_b (r_b: b's radius) plus the change of the offsets. */
-static PetscBool KeptPairHolds(ClothSelfContact sc, const struct _n_SelfContactTilePair *kept, const SelfContactTileState *a, const SelfContactTileState *b, PetscReal skin)
-{
-  PetscReal M[9], offset[6], dM = 0, doff[2] = {0, 0};
-
-  if (!kept || !a->whole || !b->whole || kept->epoch[0] != sc->snapshots[a->tile]->epoch || kept->epoch[1] != sc->snapshots[b->tile]->epoch) return PETSC_FALSE;
-  RelativePlacement(a, b, M, offset);
-  for (PetscInt k = 0; k < 9; k++) dM += PetscSqr(M[k] - kept->M[k]);
-  for (PetscInt k = 0; k < 3; k++) doff[0] += PetscSqr(offset[k] - kept->offset[k]), doff[1] += PetscSqr(offset[3 + k] - kept->offset[3 + k]);
-  return PetscSqrtReal(dM) * sc->snapshots[b->tile]->radius + PetscSqrtReal(PetscMax(doff[0], doff[1])) + a->def + b->def + kept->def <= 2 * skin ? PETSC_TRUE : PETSC_FALSE;
-}
-
-/* The pairs of primitives of present tiles s1 and s2 for this step: those kept from the last step while they hold
-   (KeptPairHolds), else found again (PairTiles with boxes reaching rho + 2 skin); recorded in the new list of kept
-   pairs (sc->fresh, pairs in sc->pairs). */
-static PetscErrorCode PairsOfTiles(ClothSelfContact sc, const SelfContactTileState *s1, const SelfContactTileState *s2, PetscReal rho, PetscReal skin)
-{
-  const SelfContactTileState          *a = s1->tile <= s2->tile ? s1 : s2, *b = s1->tile <= s2->tile ? s2 : s1;
-  const PetscInt64                     key  = (PetscInt64)a->tile * sc->ntiles + b->tile;
-  const struct _n_SelfContactTilePair *kept = FindKeptPair(sc, key);
-  struct _n_SelfContactTilePair       *pair;
+  const SelfContactTileState *a = s1->tile <= s2->tile ? s1 : s2, *b = s1->tile <= s2->tile ? s2 : s1;
+  const PetscReal             u[3] = {0.5 * (a->mdx[0] + b->mdx[0]), 0.5 * (a->mdx[1] + b->mdx[1]), 0.5 * (a->mdx[2] + b->mdx[2])};
 
   PetscFunctionBeginUser;
-  if (sc->nfresh == sc->maxfresh) PetscCall(SelfContactGrowArray(sizeof(struct _n_SelfContactTilePair), sc->nfresh, &sc->maxfresh, 256, &sc->fresh));
-  pair        = &sc->fresh[sc->nfresh++];
-  pair->key   = key;
-  pair->start = sc->npairs;
-  if (KeptPairHolds(sc, kept, a, b, skin)) {
-    for (PetscInt k = 0; k < kept->n; k++) PetscCall(AppendPrimitivePair(sc, sc->kept_pairs[kept->start + k].kind, sc->kept_pairs[kept->start + k].a, sc->kept_pairs[kept->start + k].b));
-    *pair       = *kept;
-    pair->start = sc->npairs - kept->n;
-    sc->tile_pairs_kept++;
-  } else {
-    const PetscReal u[3] = {0.5 * (a->mdx[0] + b->mdx[0]), 0.5 * (a->mdx[1] + b->mdx[1]), 0.5 * (a->mdx[2] + b->mdx[2])};
-
-    PetscCall(PairTiles(sc, a->tile, b->tile, u, rho + 2 * skin));
-    pair->epoch[0] = a->whole ? sc->snapshots[a->tile]->epoch : -1, pair->epoch[1] = b->whole ? sc->snapshots[b->tile]->epoch : -1;
-    pair->def = a->def + b->def;
-    if (a->whole && b->whole) RelativePlacement(a, b, pair->M, pair->offset);
-  }
-  pair->n = sc->npairs - pair->start;
+  PetscCall(PairTiles(sc, a->tile, b->tile, u, rho));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 /* The present tiles (sc->tile_present: tile -> its index in *state, or -1), their states and boxes. */
-static PetscErrorCode PresentTiles(ClothSelfContact sc, PetscReal rho, PetscReal skin, PetscInt *n, SelfContactTileState **state, PetscReal **boxes)
+static PetscErrorCode PresentTiles(ClothSelfContact sc, PetscReal rho, PetscInt *n, SelfContactTileState **state, PetscReal **boxes)
 {
   const PetscInt nparticles = sc->layout.nlocal + sc->nremote;
 
@@ -690,13 +479,13 @@ static PetscErrorCode PresentTiles(ClothSelfContact sc, PetscReal rho, PetscReal
   }
   *n = sc->npresent_tiles;
   PetscCall(PetscMalloc2(*n + 1, state, 6 * *n + 6, boxes));
-  for (PetscInt k = 0; k < *n; k++) PetscCall(TileState(sc, sc->present_tiles[k], 0.5 * rho + skin, skin, &(*state)[k], &(*boxes)[6 * k]));
+  for (PetscInt k = 0; k < *n; k++) TileState(sc, sc->present_tiles[k], 0.5 * rho, &(*state)[k], &(*boxes)[6 * k]);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 /* The pairs of present tiles whose boxes overlap, found on a cell grid of the boxes, each given to PairsOfTiles unless
    neither holds anything of this rank's or TilesApart proves it holds nothing. */
-static PetscErrorCode VisitTilePairs(ClothSelfContact sc, const SelfContactTileState *state, const PetscReal *boxes, PetscInt n, const PetscReal region[6], PetscReal rho, PetscReal skin)
+static PetscErrorCode VisitTilePairs(ClothSelfContact sc, const SelfContactTileState *state, const PetscReal *boxes, PetscInt n, const PetscReal region[6], PetscReal rho)
 {
   PetscInt        ncell[3], lo[3], hi[3];
   const PetscInt *start, *item;
@@ -730,52 +519,29 @@ static PetscErrorCode VisitTilePairs(ClothSelfContact sc, const SelfContactTileS
               sc->tile_pairs_apart++;
               continue;
             }
-            PetscCall(PairsOfTiles(sc, &state[a], &state[b], rho, skin));
+            PetscCall(PairsOfTiles(sc, &state[a], &state[b], rho));
           }
         }
   }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode SelfContactPairPrimitives(ClothSelfContact sc, const PetscReal region[6], PetscReal rho, PetscReal skin)
+PetscErrorCode SelfContactPairPrimitives(ClothSelfContact sc, const PetscReal region[6], PetscReal rho)
 {
-  SelfContactTileState          *state;
-  PetscReal                     *boxes;
-  PetscInt                       n = 0;
-  struct _n_SelfContactTilePair *swap_pairs;
-  SelfContactPrimitivePair      *swap_prims;
-  PetscInt                       swap_max;
+  SelfContactTileState *state;
+  PetscReal            *boxes;
+  PetscInt              n = 0;
 
   PetscFunctionBeginUser;
-  PetscCall(PresentTiles(sc, rho, skin, &n, &state, &boxes));
-  /* this step's pairs go into fresh lists; the last step's (kept) are read from */
-  sc->nfresh = 0;
-  sc->npairs = 0;
-  PetscCall(VisitTilePairs(sc, state, boxes, n, region, rho, skin));
+  PetscCall(PresentTiles(sc, rho, &n, &state, &boxes));
+  PetscCall(VisitTilePairs(sc, state, boxes, n, region, rho));
   PetscCall(PetscFree2(state, boxes));
-  qsort(sc->fresh, (size_t)sc->nfresh, sizeof(struct _n_SelfContactTilePair), CompareTilePairs);
-  /* the fresh lists are kept for the next step; the old ones become the next step's buffers */
-  swap_pairs = sc->kept, sc->kept = sc->fresh, sc->fresh = swap_pairs;
-  swap_max = sc->maxkept, sc->maxkept = sc->maxfresh, sc->maxfresh = swap_max;
-  sc->nkept = sc->nfresh, sc->nfresh = 0;
-  swap_prims = sc->kept_pairs, sc->kept_pairs = sc->pairs, sc->pairs = swap_prims;
-  swap_max = sc->maxkept_pairs, sc->maxkept_pairs = sc->maxpairs, sc->maxpairs = swap_max;
-  sc->nkept_pairs = sc->npairs, sc->npairs = 0;
-  sc->primitive_pairs_total += sc->nkept_pairs;
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-PetscErrorCode SelfContactForgetKeptPairs(ClothSelfContact sc)
-{
-  PetscFunctionBeginUser;
-  sc->nkept = 0;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 PetscErrorCode SelfContactDestroyTiles(ClothSelfContact sc)
 {
   PetscFunctionBeginUser;
-  for (PetscInt t = 0; t < sc->ntiles && sc->snapshots; t++) PetscCall(PetscFree(sc->snapshots[t]));
   PetscCall(PetscFree(sc->piece_tiles));
   PetscCall(PetscFree(sc->tiles));
   PetscCall(PetscFree(sc->tile_tri_start));
@@ -784,12 +550,8 @@ PetscErrorCode SelfContactDestroyTiles(ClothSelfContact sc)
   PetscCall(PetscFree(sc->tile_edge_of));
   PetscCall(PetscFree(sc->tile_particle_start));
   PetscCall(PetscFree(sc->tile_particle_of));
-  PetscCall(PetscFree3(sc->tile_present, sc->tile_mark, sc->snapshots));
+  PetscCall(PetscFree2(sc->tile_present, sc->tile_mark));
   PetscCall(PetscFree(sc->present_tiles));
-  PetscCall(PetscFree(sc->kept));
-  PetscCall(PetscFree(sc->fresh));
-  PetscCall(PetscFree(sc->kept_pairs));
-  PetscCall(PetscFree(sc->pairs));
   PetscCall(PetscFree3(sc->scratch_ids, sc->scratch_ij, sc->scratch_boxes));
   PetscCall(CellGridDestroy(&sc->tile_grid));
   PetscFunctionReturn(PETSC_SUCCESS);
