@@ -220,10 +220,11 @@ PetscErrorCode ClothCollisionSetUp(ClothCollision col)
   }
   PetscCall(ClothCreateStateVec(col->cloth, &col->force));
   PetscCall(PushOutStartingInside(col));
-  if (col->friction == CLOTH_COLLISION_FRICTION_IMPLICIT) {
-    const ClothContribution friction = {.name = "body friction", .ctx = col, .add_to_implicit_step = CollisionAddFrictionToImplicitStep};
+  { /* the held contacts' checkpoint field (collision_checkpoint.c) and, implicit, the friction */
+    ClothContribution contacts = {.name = "body contacts", .ctx = col, .checkpoint_fields = ClothCollisionCheckpointFields_Private, .checkpoint_load = ClothCollisionCheckpointLoad_Private};
 
-    PetscCall(ClothAddContribution(col->cloth, &friction));
+    if (col->friction == CLOTH_COLLISION_FRICTION_IMPLICIT) contacts.add_to_implicit_step = CollisionAddFrictionToImplicitStep;
+    PetscCall(ClothAddContribution(col->cloth, &contacts));
   }
   col->setup = PETSC_TRUE;
   if (col->view) PetscCall(ClothCollisionView(col, PETSC_VIEWER_STDOUT_(col->comm)));
@@ -235,6 +236,13 @@ PetscErrorCode ClothCollisionGetBodies(ClothCollision col, PetscInt *nbodies, co
   PetscFunctionBeginUser;
   if (nbodies) *nbodies = col->nbodies;
   if (bodies) *bodies = col->bodies;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothCollisionGetCloth(ClothCollision col, Cloth *cloth)
+{
+  PetscFunctionBeginUser;
+  *cloth = col->cloth;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
