@@ -1,6 +1,6 @@
 /* CellGrid: a uniform grid of cubic cells over a box, each cell listing the items whose boxes touch it
    (compressed rows). The one spatial index of the contact searches: the triangles of a mesh body near this
-   rank's particles (collision.c) and the cloth's triangles and edges (selfcontact.c).
+   rank's particles (collision_search.c) and the cloth's triangles and edges (selfcontact.c).
 
    Queries: the cells a box touches (CellGridGetCellRange) and the cells a segment passes through, in order
    (CellGridWalkBegin/Next, Amanatides & Woo's 3D DDA). An item may be listed in several cells, so a query

@@ -445,6 +445,19 @@ PetscErrorCode ClothCheckpointWrite(MPI_Comm comm, const char dir[], const Cloth
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+PetscErrorCode ClothCheckpointFieldFind(PetscInt nfields, const ClothCheckpointField fields[], const char name[], const ClothCheckpointField **field)
+{
+  PetscBool same;
+
+  PetscFunctionBeginUser;
+  *field = NULL;
+  for (PetscInt f = 0; f < nfields && !*field; f++) {
+    PetscCall(PetscStrcmp(fields[f].name, name, &same));
+    if (same) *field = &fields[f];
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode ClothCheckpointFindNewest(MPI_Comm comm, const char dir[], char path[], size_t len, PetscInt *count)
 {
   PetscMPIInt rank;

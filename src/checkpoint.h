@@ -2,7 +2,8 @@
 
    Layout (docs/checkpoint.md): /state/position and /state/velocity, (N, 3) float64 in
    natural (global particle) order, plus any further per-particle field a restart needs (the implicit
-   integrator's last velocity change, /state/implicit_dv, and bdf2's history); attributes on /state: step (int64), time
+   integrator's last velocity change, /state/implicit_dv, and bdf2's history, which the run declares; the state of
+   the cloth's contributions, which each declares itself: cloth.h, checkpoint_fields); attributes on /state: step (int64), time
    (float64), and the rest of ClothCheckpointInfo. */
 #pragma once
 #include <stdint.h>
@@ -34,6 +35,8 @@ typedef struct {
   PetscBool   found;    /* read: set to whether the file holds the dataset */
 } ClothCheckpointField;
 
+/* The field of this name among fields[0..nfields), or NULL. */
+PetscErrorCode ClothCheckpointFieldFind(PetscInt nfields, const ClothCheckpointField fields[], const char name[], const ClothCheckpointField **field);
 /* Writes DIR/checkpoint_NNNNNN.h5 (NNNNNN = info->step, six digits) through a temporary name, then
    renames it; keeps only the newest `keep` checkpoints of this run (info->run_id) in DIR when keep > 0, never
    touching another run's. fields must include

@@ -3,13 +3,6 @@
 #include "cloth_impl.h"
 #include "log.h"
 #include "options.h"
-#include "hysteresis.h"
-#include "seam_links.h"
-
-/* The model's forces that plug in as contributions (docs/architecture.md, "Adding a force"): each registers itself
-   at set-up, also when the model has none of its elements (then it adds nothing). Hysteresis first: its friction
-   elements were summed with the angle springs, before the seam links. */
-static PetscErrorCode (*const ClothModelContributions[])(Cloth) = {ClothHysteresisRegister, ClothSeamLinksRegister};
 
 PetscErrorCode ClothCreate(MPI_Comm comm, Scene scene, Cloth *cloth)
 {
@@ -43,10 +36,11 @@ PetscErrorCode ClothSetFromOptions(Cloth cloth)
   PetscCall(PetscOptionsInt("-cloth_perturbation_seed", "Seed of -cloth_perturbation (one trial of a test per seed)", "ClothModelPerturbPositions", cloth->perturbation_seed, &cloth->perturbation_seed, NULL));
   PetscCall(PetscOptionsReal("-cloth_perturbation_wavelength", "Shortest wavelength, m, of a smooth -cloth_perturbation field, the same at any resolution (0: independent per particle)", "ClothModelPerturbPositions", cloth->perturbation_wavelength,
                              &cloth->perturbation_wavelength, NULL));
-  PetscCall(PetscOptionsEnum("-cloth_stiffness",
-                             "Stiffness of the angle and twist elements in the implicit system: gauss_newton (closed form, positive semidefinite; the default), projected (the exact Hessian projected by a LAPACK eigen-decomposition per element, 7.9x the assembly), "
-                             "exact (indefinite: tests only)",
-                             "ClothAssembleImplicitSystem", ClothStiffnessTypes, (PetscEnum)cloth->stiffness, (PetscEnum *)&cloth->stiffness, NULL));
+  PetscCall(PetscOptionsEnum(
+      "-cloth_stiffness",
+      "Stiffness of the angle and twist elements in the implicit system: gauss_newton (closed form, positive semidefinite; the default), projected (the exact Hessian projected by a LAPACK eigen-decomposition per element, 7.9x the assembly), "
+      "exact (indefinite: tests only)",
+      "ClothAssembleImplicitSystem", ClothStiffnessTypes, (PetscEnum)cloth->stiffness, (PetscEnum *)&cloth->stiffness, NULL));
   PetscCall(PetscOptionsBool("-cloth_stiffness_factored", "With gauss_newton: filter and assemble each angle and twist element from its rank-1 to 3 factors (false: from its expanded matrix; the same system up to rounding)",
                              "ClothAssembleImplicitSystem", cloth->factored, &cloth->factored, NULL));
   PetscOptionsEnd();
@@ -207,7 +201,7 @@ static PetscErrorCode ClothShareLinkParameters(Cloth cloth)
 }
 
 /* Keeps this rank's links and elastic angle springs, renumbered to local indices (the other interactions of the
-   model: their contributions, ClothModelContributions). */
+   model: their contributions, ClothModelContributions in cloth_regis.c). */
 static PetscErrorCode ClothDistributeInteractions(Cloth cloth, PetscMPIInt rank)
 {
   const ClothModel m = cloth->model;
@@ -345,7 +339,7 @@ PetscErrorCode ClothSetUp(Cloth cloth)
   cloth->setup = PETSC_TRUE;
   PetscCall(ClothComputeRestMeasures(cloth));
   PetscCall(ClothLogPhaseEnd(CLOTH_SETUP_DISTRIBUTE));
-  for (size_t c = 0; c < PETSC_STATIC_ARRAY_LENGTH(ClothModelContributions); c++) PetscCall(ClothModelContributions[c](cloth));
+  PetscCall(ClothRegisterModelContributions_Private(cloth)); /* the model's own forces (cloth_regis.c) */
   PetscCall(PetscLogEventEnd(ClothLog.setup, 0, 0, 0, 0));
   if (cloth->view_partition)
     PetscCall(ClothView(cloth, PETSC_VIEWER_STDOUT_(cloth->comm)));

@@ -10,6 +10,7 @@
 #include "scene.h"
 #include "model.h"
 #include "partition.h"
+#include "checkpoint.h"
 
 typedef struct _n_Cloth            *Cloth;
 typedef struct _n_ClothSelfContact *ClothSelfContact; /* see selfcontact.h */
@@ -137,10 +138,20 @@ typedef struct {
   /* ClothSaveState, ClothRestoreState: save the internal state in slot 0 or 1, put it back. May be NULL. */
   PetscErrorCode (*save)(void *ctx, PetscInt slot);
   PetscErrorCode (*restore)(void *ctx, PetscInt slot);
+  /* The state a restart needs that the contribution keeps (hysteresis sliders, sewn seams, held body contacts), as
+     per-particle checkpoint fields (checkpoint.h), so that the run writes and reads them without knowing them.
+     checkpoint_fields declares up to CLOTH_CONTRIBUTION_MAX_FIELDS: name, whether a restart requires it, and a new
+     natural-order Vec (destroyed by the caller: ClothRestoreCheckpointFields), filled with the current state when
+     write is true. checkpoint_load takes the state back after a read: fields are all the contributions' (find its own
+     by name, ClothCheckpointFieldFind; found says whether the file had it), info the checkpoint's (its time). Both
+     NULL or both given. Collective. */
+  PetscErrorCode (*checkpoint_fields)(void *ctx, PetscBool write, ClothCheckpointField fields[], PetscInt *nfields);
+  PetscErrorCode (*checkpoint_load)(void *ctx, const ClothCheckpointInfo *info, PetscInt nfields, const ClothCheckpointField fields[]);
   /* NULL: the caller owns ctx; else the cloth does, and destroys it with this when it is removed or destroyed. */
   PetscErrorCode (*destroy)(void *ctx);
 } ClothContribution;
 #define CLOTH_MAX_CONTRIBUTIONS 8
+#define CLOTH_CONTRIBUTION_MAX_FIELDS 2
 /* Counts the block (row, col) (solver indices, row owned: rstart <= row < rend) in its row's preallocation: the
    diagonal part (col owned) or the off-diagonal one, and, when above the diagonal, the upper-triangle counts (SBAIJ). */
 static inline void ClothCountRowBlock(PetscInt rstart, PetscInt rend, PetscInt row, PetscInt col, PetscInt dnnz[], PetscInt onnz[], PetscInt dnnzu[], PetscInt onnzu[])
@@ -166,6 +177,15 @@ PetscErrorCode ClothAddContribution(Cloth cloth, const ClothContribution *contri
 PetscErrorCode ClothRemoveContribution(Cloth cloth, void *ctx);
 /* The ctx of the registered contribution of this name, or NULL when none. */
 PetscErrorCode ClothGetContribution(Cloth cloth, const char *name, void **ctx);
+/* The checkpoint fields of every registered contribution (checkpoint_fields), in the order they were registered, into
+   fields[0..max); with write true filled with the current state. Lent: give them back with
+   ClothRestoreCheckpointFields. Collective. */
+PetscErrorCode ClothGetCheckpointFields(Cloth cloth, PetscBool write, PetscInt max, ClothCheckpointField fields[], PetscInt *nfields);
+/* After ClothCheckpointRead into the fields of ClothGetCheckpointFields: every contribution takes its state back
+   (checkpoint_load). Collective. */
+PetscErrorCode ClothLoadCheckpointFields(Cloth cloth, const ClothCheckpointInfo *info, PetscInt nfields, const ClothCheckpointField fields[]);
+/* Destroys the fields' Vecs (from ClothGetCheckpointFields). */
+PetscErrorCode ClothRestoreCheckpointFields(Cloth cloth, PetscInt nfields, ClothCheckpointField fields[]);
 /* Whether this rank evaluates the interaction of the model on natural particles natural[0..np) (the owner of its
    lowest-numbered particle in solver numbering, as for the cloth's own interactions) and, if so, their local
    numbers. Every interaction of the model (links, angles, seam links) is in the interaction graph, so its

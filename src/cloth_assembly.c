@@ -534,43 +534,6 @@ PetscErrorCode ClothSetSelfContact(Cloth cloth, ClothSelfContact sc)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode ClothAddContribution(Cloth cloth, const ClothContribution *contribution)
-{
-  PetscFunctionBeginUser;
-  PetscCheck(contribution->add || contribution->add_to_implicit_step || contribution->add_elements, PETSC_COMM_SELF, PETSC_ERR_ARG_NULL, "Contribution '%s' adds nothing (no add, add_elements or add_to_implicit_step)", contribution->name);
-  PetscCheck(cloth->ncontributions < CLOTH_MAX_CONTRIBUTIONS, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "Contribution '%s': the cloth takes at most %d", contribution->name, CLOTH_MAX_CONTRIBUTIONS);
-  cloth->contributions[cloth->ncontributions++] = *contribution;
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-PetscErrorCode ClothRemoveContribution(Cloth cloth, void *ctx)
-{
-  PetscInt kept = 0;
-
-  PetscFunctionBeginUser;
-  for (PetscInt c = 0; c < cloth->ncontributions; c++) {
-    if (cloth->contributions[c].ctx != ctx)
-      cloth->contributions[kept++] = cloth->contributions[c];
-    else if (cloth->contributions[c].destroy)
-      PetscCall(cloth->contributions[c].destroy(ctx));
-  }
-  cloth->ncontributions = kept;
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-PetscErrorCode ClothGetContribution(Cloth cloth, const char *name, void **ctx)
-{
-  PetscBool same;
-
-  PetscFunctionBeginUser;
-  *ctx = NULL;
-  for (PetscInt c = 0; c < cloth->ncontributions && !*ctx; c++) {
-    PetscCall(PetscStrcmp(cloth->contributions[c].name, name, &same));
-    if (same) *ctx = cloth->contributions[c].ctx;
-  }
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
 PetscErrorCode ClothBeginStep(Cloth cloth, Vec position)
 {
   PetscFunctionBeginUser;

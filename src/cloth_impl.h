@@ -1,5 +1,6 @@
-/* Private: the body of the Cloth object, shared by cloth.c (set-up, layout) and
-   cloth_assembly.c (forces, Jacobians, energies, contributions). Every other module uses cloth.h. */
+/* Private: the body of the Cloth object, shared by cloth.c (set-up, layout), cloth_assembly.c (forces, Jacobians,
+   energies, the contributions' calls), cloth_regis.c (the registry of contributions) and cloth_strain.c. Every other
+   module uses cloth.h. */
 #pragma once
 #include "cloth.h"
 #include "forces.h"
@@ -52,6 +53,9 @@ struct _n_Cloth {
   Vec                         natural; /* layout of natural-order Vecs (no values of its own) */
   VecScatter                  to_natural;
 };
+
+/* Registers the model's own contributions (cloth_regis.c's table: hysteresis, seam links) at ClothSetUp. */
+PETSC_INTERN PetscErrorCode ClothRegisterModelContributions_Private(Cloth cloth);
 
 /* The rest measures the fit maps need (thread_width, area), from the model's initial positions while they exist:
    after them the fit maps read no per-particle data of the whole fabric (cloth_strain.c). */

@@ -70,6 +70,8 @@ PetscErrorCode ClothCollisionSetVerify(ClothCollision collision, PetscBool verif
 PetscErrorCode ClothCollisionSetUp(ClothCollision collision);
 /* The bodies (borrowed). */
 PetscErrorCode ClothCollisionGetBodies(ClothCollision collision, PetscInt *nbodies, const Body **bodies);
+/* The cloth it acts on (borrowed). */
+PetscErrorCode ClothCollisionGetCloth(ClothCollision collision, Cloth *cloth);
 /* Detects and resolves the contacts of the step that went from previous (the positions before the step) to
    the cloth's current state, h seconds later; sets the contact constraints for the next step. Collective. */
 PetscErrorCode ClothCollisionApply(ClothCollision collision, Vec previous, PetscReal h);
@@ -99,3 +101,8 @@ PetscErrorCode ClothCollisionView(ClothCollision collision, PetscViewer viewer);
 PetscErrorCode ClothCollisionSave(ClothCollision collision, PetscInt slot);
 PetscErrorCode ClothCollisionRestore(ClothCollision collision, PetscInt slot);
 PetscErrorCode ClothCollisionDestroy(ClothCollision *collision);
+/* The checkpoint hooks of the collision's ClothContribution (cloth.h; ctx the ClothCollision; collision_checkpoint.c):
+   the field contact_normal, the cloth's contact constraints in natural order, and after a read the held contacts
+   found again from them (ClothCollisionRestoreHeldContacts). */
+PetscErrorCode ClothCollisionCheckpointFields_Private(void *ctx, PetscBool write, ClothCheckpointField fields[], PetscInt *nfields);
+PetscErrorCode ClothCollisionCheckpointLoad_Private(void *ctx, const ClothCheckpointInfo *info, PetscInt nfields, const ClothCheckpointField fields[]);

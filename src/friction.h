@@ -1,4 +1,4 @@
-/* The regularised Coulomb friction law of contacts in the implicit step, shared by the body contacts (collision.c,
+/* The regularised Coulomb friction law of contacts in the implicit step, shared by the body contacts (collision_response.c,
    -collision_friction implicit) and the cloth-cloth contacts (selfcontact.c, -self_collision_friction); see
    docs/collisions.md, "Friction inside the implicit step". */
 #pragma once

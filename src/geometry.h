@@ -1,5 +1,5 @@
 /* Geometry: the closest-point, box and segment-triangle kernels shared by the rigid bodies (body.c), the
-   collisions with them (collision.c) and self-collision (selfcontact.c), so that one implementation serves
+   collisions with them (collision_search.c, collision_response.c) and self-collision (selfcontact.c), so that one implementation serves
    all three and the brute-force tests of both searches protect it.
 
    These are the innermost kernels of the contact searches: they cannot fail, so they return their results

@@ -155,41 +155,12 @@ static PetscErrorCode HysteresisDistribute(Cloth cloth, ClothHysteresis *hy)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode ClothHysteresisRegister(Cloth cloth)
+static PetscErrorCode HysteresisCreateStateVec(ClothHysteresis *hy, ClothSliderFamily family, Vec *state)
 {
-  ClothHysteresis *hy;
-
-  PetscFunctionBeginUser;
-  PetscCall(PetscNew(&hy));
-  PetscCall(ClothGetModel(cloth, &hy->model));
-  PetscCall(ClothGetComm(cloth, &hy->comm));
-  PetscCall(ClothGetSizes(cloth, NULL, &hy->nglobal));
-  PetscCall(HysteresisDistribute(cloth, hy));
-  {
-    const ClothContribution contribution = {.name = CLOTH_HYSTERESIS_NAME, .ctx = hy, .add_elements = HysteresisAddElements, .begin_step = HysteresisBeginStep, .save = HysteresisSave, .restore = HysteresisRestore, .destroy = HysteresisDestroy};
-
-    PetscCall(ClothAddContribution(cloth, &contribution));
-  }
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-/* The cloth's hysteresis contribution. */
-static PetscErrorCode GetHysteresis(Cloth cloth, ClothHysteresis **hy)
-{
-  PetscFunctionBeginUser;
-  PetscCall(ClothGetContribution(cloth, CLOTH_HYSTERESIS_NAME, (void **)hy));
-  PetscCheck(*hy, PETSC_COMM_SELF, PETSC_ERR_ORDER, "The cloth has no hysteresis contribution: call ClothSetUp first");
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-PetscErrorCode ClothHysteresisCreateStateVec(Cloth cloth, ClothSliderFamily family, Vec *state)
-{
-  const PetscInt   bs = SliderBlockSize(family);
-  ClothHysteresis *hy;
+  const PetscInt bs = SliderBlockSize(family);
 
   PetscFunctionBeginUser;
   *state = NULL;
-  PetscCall(GetHysteresis(cloth, &hy));
   if (SliderCount(hy->model, family) == 0) PetscFunctionReturn(PETSC_SUCCESS); /* the same on every rank */
   PetscCall(VecCreate(hy->comm, state));
   PetscCall(VecSetBlockSize(*state, bs));
@@ -199,12 +170,9 @@ PetscErrorCode ClothHysteresisCreateStateVec(Cloth cloth, ClothSliderFamily fami
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode ClothHysteresisGetState(Cloth cloth, ClothSliderFamily family, Vec state)
+static PetscErrorCode HysteresisGetState(ClothHysteresis *hy, ClothSliderFamily family, Vec state)
 {
-  ClothHysteresis *hy;
-
   PetscFunctionBeginUser;
-  PetscCall(GetHysteresis(cloth, &hy));
   PetscCall(VecZeroEntries(state));
   for (PetscInt a = 0; a < hy->n; a++) {
     const ClothAngle *angle  = &hy->elements[a];
@@ -219,16 +187,14 @@ PetscErrorCode ClothHysteresisGetState(Cloth cloth, ClothSliderFamily family, Ve
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode ClothHysteresisSetState(Cloth cloth, ClothSliderFamily family, Vec state)
+static PetscErrorCode HysteresisSetState(ClothHysteresis *hy, ClothSliderFamily family, Vec state)
 {
-  ClothHysteresis   *hy;
   VecScatter         to_all;
   Vec                all;
   const PetscScalar *s;
   const char        *name;
 
   PetscFunctionBeginUser;
-  PetscCall(GetHysteresis(cloth, &hy));
   PetscCall(PetscObjectGetName((PetscObject)state, &name));
   PetscCall(VecScatterCreateToAll(state, &to_all, &all));
   PetscCall(VecScatterBegin(to_all, state, all, INSERT_VALUES, SCATTER_FORWARD));
@@ -247,5 +213,65 @@ PetscErrorCode ClothHysteresisSetState(Cloth cloth, ClothSliderFamily family, Ve
   PetscCall(VecRestoreArrayRead(all, &s));
   PetscCall(VecScatterDestroy(&to_all));
   PetscCall(VecDestroy(&all));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The checkpoint fields bend_slider and shear_slider: one per family of sliders the fabric has. */
+static PetscErrorCode HysteresisCheckpointFields(void *ctx, PetscBool write, ClothCheckpointField fields[], PetscInt *nfields)
+{
+  ClothHysteresis *hy = (ClothHysteresis *)ctx;
+
+  PetscFunctionBeginUser;
+  *nfields = 0;
+  for (PetscInt f = 0; f < CLOTH_SLIDER_FAMILIES; f++) {
+    Vec         state;
+    const char *name;
+
+    PetscCall(HysteresisCreateStateVec(hy, (ClothSliderFamily)f, &state));
+    if (!state) continue;
+    if (write) PetscCall(HysteresisGetState(hy, (ClothSliderFamily)f, state));
+    PetscCall(PetscObjectGetName((PetscObject)state, &name));
+    fields[(*nfields)++] = (ClothCheckpointField){name, state, PETSC_TRUE, PETSC_FALSE};
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode HysteresisCheckpointLoad(void *ctx, const ClothCheckpointInfo *info, PetscInt nfields, const ClothCheckpointField fields[])
+{
+  ClothHysteresis *hy = (ClothHysteresis *)ctx;
+
+  PetscFunctionBeginUser;
+  for (PetscInt f = 0; f < CLOTH_SLIDER_FAMILIES; f++) {
+    const ClothCheckpointField *field;
+
+    PetscCall(ClothCheckpointFieldFind(nfields, fields, f == CLOTH_SLIDERS_BEND ? "bend_slider" : "shear_slider", &field));
+    if (field && field->found) PetscCall(HysteresisSetState(hy, (ClothSliderFamily)f, field->vec));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode ClothHysteresisRegister(Cloth cloth)
+{
+  ClothHysteresis *hy;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscNew(&hy));
+  PetscCall(ClothGetModel(cloth, &hy->model));
+  PetscCall(ClothGetComm(cloth, &hy->comm));
+  PetscCall(ClothGetSizes(cloth, NULL, &hy->nglobal));
+  PetscCall(HysteresisDistribute(cloth, hy));
+  {
+    const ClothContribution contribution = {.name              = CLOTH_HYSTERESIS_NAME,
+                                            .ctx               = hy,
+                                            .add_elements      = HysteresisAddElements,
+                                            .begin_step        = HysteresisBeginStep,
+                                            .save              = HysteresisSave,
+                                            .restore           = HysteresisRestore,
+                                            .checkpoint_fields = HysteresisCheckpointFields,
+                                            .checkpoint_load   = HysteresisCheckpointLoad,
+                                            .destroy           = HysteresisDestroy};
+
+    PetscCall(ClothAddContribution(cloth, &contribution));
+  }
   PetscFunctionReturn(PETSC_SUCCESS);
 }

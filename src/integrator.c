@@ -1,14 +1,8 @@
 /* ClothIntegrator (see integrator.h). */
 #include "integrator.h"
-#include "preconditioner.h"
+#include "implicit_solver.h"
 #include "options.h"
 #include "selfcontact.h"
-#include "log.h"
-
-/* Krylov iteration caps: the default solver needs tens of iterations (hundreds without a multilevel
-   preconditioner); the fallback, point-block Jacobi CG, up to a few thousand on the largest sheets. */
-#define CLOTH_KRYLOV_MAX_IT 2000
-#define CLOTH_FALLBACK_KRYLOV_MAX_IT 10000
 
 typedef PetscErrorCode (*ClothStepFunction)(ClothIntegrator, PetscReal, PetscBool *, PetscInt *);
 
@@ -29,15 +23,10 @@ struct _n_ClothIntegrator {
   ClothCollision collision; /* borrowed; NULL: no bodies */
   /* implicit only */
   Mat                 A, op;             /* the assembled matrix; the operator of the system (A and the contacts' couplings, ClothCreateImplicitOperator) */
-  MatType             mat_type;          /* the implicit matrix's default storage (ClothPreconditionerGetMatType) */
-  KSP                 ksp, fallback_ksp; /* fallback_ksp: redoes the solves whose preconditioner breaks down */
-  ClothPreconditioner pre;               /* keeps ksp's preconditioner between steps */
+  ClothImplicitSolver solver;            /* the linear solve: KSP, tolerances, preconditioner, fallback (implicit_solver.h) */
   Vec                 rhs, dv, start_dv; /* start_dv: dv at the step's start, put back when it fails */
   Vec                 dv_guess;          /* a half step's warm start, kept for a solve redone (created at the first halving) */
-  PetscInt            pc_fallbacks;      /* solves redone with fallback_ksp */
   char                failure[256];      /* why the last failed (sub-)step failed */
-  PetscInt            pc_retries;        /* solves redone after a rebuild of a preconditioner kept from earlier steps */
-  PetscInt            max_it;            /* the Krylov solve's iteration limit (-ksp_max_it) */
   /* bdf2 only (StepBDF2): the last (sub-)step's history. rate = (x_n - x_{n-1}) / h and v_{n-1}, both as the solve left
      them, before the contact responses: those moved x_n and v_n by jumps that the history takes over, so that an
      impact neither bounces back nor pushes on. history_dt: the (sub-)step they belong to; 0: none. */
@@ -134,108 +123,19 @@ static PetscErrorCode StepSymplectic(ClothIntegrator integ, PetscReal h, PetscBo
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* The robust solver of the steps whose preconditioner breaks down, options prefix fallback_: CG + point-block
-   Jacobi (for SBAIJ through block_matrix.h). */
-static PetscErrorCode CreateFallbackKSP(ClothIntegrator integ)
-{
-  PC pc;
-
-  PetscFunctionBeginUser;
-  PetscCall(KSPCreate(integ->comm, &integ->fallback_ksp));
-  PetscCall(KSPSetOptionsPrefix(integ->fallback_ksp, "fallback_"));
-  PetscCall(KSPSetType(integ->fallback_ksp, KSPCG));
-  PetscCall(KSPGetPC(integ->fallback_ksp, &pc));
-  PetscCall(PCSetType(pc, PCPBJACOBI));
-  PetscCall(KSPSetTolerances(integ->fallback_ksp, PETSC_DEFAULT, 1e-50, PETSC_DEFAULT, CLOTH_FALLBACK_KRYLOV_MAX_IT));
-  PetscCall(KSPSetInitialGuessNonzero(integ->fallback_ksp, PETSC_TRUE));
-  PetscCall(KSPSetFromOptions(integ->fallback_ksp));
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-/* KSPSolve from the warm start in guess; its iterations are added to *its. */
-static PetscErrorCode SolveFromGuess(ClothIntegrator integ, KSP ksp, Vec guess, KSPConvergedReason *reason, PetscInt *its)
-{
-  PetscInt n;
-
-  PetscFunctionBeginUser;
-  PetscCall(VecCopy(guess, integ->dv));
-  PetscCall(KSPSolve(ksp, integ->rhs, integ->dv));
-  PetscCall(KSPGetConvergedReason(ksp, reason));
-  PetscCall(KSPGetIterationNumber(ksp, &n));
-  *its += n;
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-/* Solves A dv = rhs from the warm start in dv, A of step size h at positions x. A preconditioner lagged from earlier
-   steps may not fit a matrix that changed abruptly (a contact, a halved step, a sheet folding): its solve is stopped
-   once the lag has cost more than a refresh saves (ClothPreconditionerIterationLimit; limited by -ksp_max_it alone,
-   a step of a 1025 x 1025 sheet was still solving after 20 minutes) and redone once with the preconditioner
-   rebuilt. An incomplete factorisation can break down (a non-positive pivot: DIVERGED_INDEFINITE_PC) on a matrix
-   that is itself positive definite; then the step is solved again by the fallback solver rather than halved. */
+/* Solves A dv = rhs (ClothImplicitSolverSolve) from the warm start: the whole step's attempt from the step's dv, a half
+   step from the dv that the attempt before it left. */
 static PetscErrorCode SolveImplicitSystem(ClothIntegrator integ, Vec x, PetscReal h, KSPConvergedReason *reason, PetscInt *its)
 {
-  ClothPCUpdate update;
-  PetscBool     kept;
-  PetscInt      last_its = 0, limit;
-  Vec           guess    = integ->start_dv; /* the whole step's attempt starts from the step's dv */
+  Vec guess = integ->start_dv;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscLogEventBegin(ClothLog.solve, 0, 0, 0, 0));
-  *its = 0;
   if (integ->depth > 0) {
     if (!integ->dv_guess) PetscCall(VecDuplicate(integ->dv, &integ->dv_guess));
     PetscCall(VecCopy(integ->dv, integ->dv_guess));
     guess = integ->dv_guess;
   }
-  PetscCall(ClothPreconditionerPrepare(integ->pre, integ->op, integ->A, x, h, &update));
-  PetscCall(ClothPreconditionerIterationLimit(integ->pre, integ->max_it, &limit));
-  PetscCall(KSPSetTolerances(integ->ksp, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT, limit));
-  PetscCall(SolveFromGuess(integ, integ->ksp, guess, reason, &last_its));
-  PetscCall(ClothPreconditionerIsKept(integ->pre, &kept));
-  if (*reason < 0 && kept && update != CLOTH_PC_REBUILD) {
-    PetscCall(PetscInfo(NULL, "Solve with a preconditioner of earlier steps failed (%s after %" PetscInt_FMT " iterations); rebuilding it\n", KSPConvergedReasons[*reason], last_its));
-    PetscCall(ClothPreconditionerSolved(integ->pre, last_its)); /* a lag cut short by its limit pauses lagging */
-    *its     = last_its;
-    last_its = 0;
-    PetscCall(ClothPreconditionerRequestRebuild(integ->pre));
-    PetscCall(ClothPreconditionerPrepare(integ->pre, integ->op, integ->A, x, h, NULL));
-    PetscCall(KSPSetTolerances(integ->ksp, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT, integ->max_it));
-    PetscCall(SolveFromGuess(integ, integ->ksp, guess, reason, &last_its));
-    integ->pc_retries++;
-  }
-  *its += last_its;
-  PetscCall(ClothPreconditionerSolved(integ->pre, last_its));
-  if (*reason == KSP_DIVERGED_INDEFINITE_PC || *reason == KSP_DIVERGED_PC_FAILED) {
-    PetscCall(PetscInfo(NULL, "Preconditioner broke down (%s); solving again with the fallback solver\n", KSPConvergedReasons[*reason]));
-    PetscCall(ClothPreconditionerRequestRebuild(integ->pre));
-    PetscCall(KSPSetOperators(integ->fallback_ksp, integ->op, integ->A));
-    PetscCall(SolveFromGuess(integ, integ->fallback_ksp, guess, reason, its));
-    integ->pc_fallbacks++;
-  }
-  PetscCall(PetscLogEventEnd(ClothLog.solve, 0, 0, 0, 0));
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-/* Describes a failed solve in integ->failure: the Krylov reason and, when the preconditioner failed, its reason (the
-   worst over the ranks: a zero pivot of one rank's factor fails the solve on all). */
-static PetscErrorCode DescribeFailedSolve(ClothIntegrator integ, KSPConvergedReason reason, PetscInt its)
-{
-  PC             pc;
-  PCType         type;
-  PCFailedReason local, worst;
-  int            l, w;
-
-  PetscFunctionBeginUser;
-  PetscCall(KSPGetPC(integ->ksp, &pc));
-  PetscCall(PCGetType(pc, &type));
-  PetscCall(PCGetFailedReasonRank(pc, &local));
-  l = (int)local;
-  PetscCallMPI(MPI_Allreduce(&l, &w, 1, MPI_INT, MPI_MAX, integ->comm));
-  worst = (PCFailedReason)w;
-  if (worst != PC_NOERROR)
-    PetscCall(PetscSNPrintf(integ->failure, sizeof(integ->failure), "the Krylov solve stopped with %s after %" PetscInt_FMT " iterations: preconditioner %s failed with %s", KSPConvergedReasons[reason], its, type, PCFailedReasons[worst]));
-  else
-    PetscCall(PetscSNPrintf(integ->failure, sizeof(integ->failure), "the Krylov solve stopped with %s after %" PetscInt_FMT " iterations (preconditioner %s)", KSPConvergedReasons[reason], its, type));
+  PetscCall(ClothImplicitSolverSolve(integ->solver, x, h, integ->rhs, guess, integ->dv, reason, its));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -250,7 +150,7 @@ static PetscErrorCode AssembleAndSolve(ClothIntegrator integ, PetscReal h, Vec x
   if (extra) PetscCall(VecAXPY(integ->rhs, 1.0, extra));
   PetscCall(SolveImplicitSystem(integ, x, h, &reason, its));
   *ok = reason > 0 ? PETSC_TRUE : PETSC_FALSE;
-  if (!*ok) PetscCall(DescribeFailedSolve(integ, reason, *its));
+  if (!*ok) PetscCall(ClothImplicitSolverDescribeFailure(integ->solver, reason, *its, integ->failure, sizeof(integ->failure)));
   if (*ok) PetscCall(VecIsFinite(integ->dv, ok));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -411,32 +311,23 @@ PetscErrorCode ClothIntegratorSetFromOptions(ClothIntegrator integ)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* The implicit solver, chosen by measurement (docs/performance.md): CG (the system is symmetric positive definite)
-   to PETSc's default relative tolerance 1e-5 (as the Taichi peer), preconditioned by point-block Jacobi on small
-   systems and by multigrid on large ones (kept between steps: preconditioner.h): on the pattern pieces' own grids
-   (gridhierarchy.h) without seams, GAMG with them. Multigrid's iteration count stays flat as the sheet grows where
-   point-block Jacobi's grows with the particles per side (147, 293, 537 at 65, 129, 257). Point-block Jacobi's and the
-   pattern-grid multigrid's iterates do not depend on the partition (different rank counts agree to rounding, amplified
-   by the solver); GAMG's aggregates do, so different rank counts agree to the solver tolerance.
-   Every -ksp_, -pc_, -mg_levels_, -fallback_ and -implicit_ option overrides. */
+/* The implicit system's matrix, in the storage its solver's preconditioner suits, and the solver
+   (implicit_solver.h: the KSP, its tolerances and norm, the preconditioner, the fallback). */
 static PetscErrorCode ClothIntegratorSetUpImplicit(ClothIntegrator integ)
 {
+  MatType mat_type;
+
   PetscFunctionBeginUser;
-  PetscCall(KSPCreate(integ->comm, &integ->ksp));
-  PetscCall(KSPSetType(integ->ksp, KSPCG));
-  PetscCall(ClothPreconditionerCreate(integ->ksp, integ->cloth, &integ->pre));
-  PetscCall(KSPSetTolerances(integ->ksp, PETSC_DEFAULT, 1e-50, PETSC_DEFAULT, CLOTH_KRYLOV_MAX_IT));
-  PetscCall(KSPSetInitialGuessNonzero(integ->ksp, PETSC_TRUE)); /* dv of the last step: a good guess */
-  PetscCall(KSPSetFromOptions(integ->ksp));
-  PetscCall(KSPGetTolerances(integ->ksp, NULL, NULL, NULL, &integ->max_it));
-  PetscCall(ClothPreconditionerSetFromOptions(integ->pre));
-  PetscCall(ClothPreconditionerGetMatType(integ->pre, &integ->mat_type));
-  PetscCall(ClothCreateMatrix(integ->cloth, integ->mat_type, &integ->A));
+  PetscCall(ClothImplicitSolverCreate(integ->cloth, &integ->solver));
+  PetscCall(ClothImplicitSolverSetFromOptions(integ->solver));
+  PetscCall(ClothImplicitSolverGetMatType(integ->solver, &mat_type));
+  PetscCall(ClothCreateMatrix(integ->cloth, mat_type, &integ->A));
   PetscCall(ClothCreateImplicitOperator(integ->cloth, integ->A, &integ->op));
   PetscCall(MatCreateVecs(integ->A, &integ->dv, NULL));
   PetscCall(VecDuplicate(integ->dv, &integ->start_dv));
   PetscCall(ClothCreateStateVec(integ->cloth, &integ->rhs));
-  PetscCall(CreateFallbackKSP(integ)); /* at set-up, so that -help lists its -fallback_ options */
+  PetscCall(ClothImplicitSolverSetOperators(integ->solver, integ->op, integ->A));
+  PetscCall(ClothImplicitSolverSetUp(integ->solver));
   PetscCall(VecZeroEntries(integ->dv));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -594,30 +485,9 @@ PetscErrorCode ClothIntegratorSetHistoryStep(ClothIntegrator integ, PetscReal dt
 
 PetscErrorCode ClothIntegratorViewSystem(ClothIntegrator integ, PetscViewer viewer)
 {
-  MatInfo  info;
-  MatType  mtype;
-  PCType   pctype;
-  PC       pc;
-  PetscInt bs;
-
   PetscFunctionBeginUser;
-  if (!integ->A) PetscFunctionReturn(PETSC_SUCCESS);
-  PetscCall(MatGetInfo(integ->A, MAT_GLOBAL_SUM, &info));
-  PetscCall(MatGetType(integ->A, &mtype));
-  PetscCall(MatGetBlockSize(integ->A, &bs));
-  PetscCall(KSPGetPC(integ->ksp, &pc));
-  PetscCall(PCGetType(pc, &pctype));
-  {
-    PetscBool   shell;
-    const char *name = NULL;
-    PetscCall(PetscObjectTypeCompare((PetscObject)pc, PCSHELL, &shell));
-    if (shell) PetscCall(PCShellGetName(pc, &name));
-    if (name) pctype = name; /* seam-block Jacobi */
-  }
-  /* nz_used counts stored scalars (one triangle for SBAIJ): what every matrix pass streams */
-  PetscCall(PetscViewerASCIIPrintf(viewer, "Implicit system: %s, %" PetscInt_FMT " stored %" PetscInt_FMT "x%" PetscInt_FMT " blocks (%.1f MiB of values), preconditioner %s\n", mtype, (PetscInt)(info.nz_used / (bs * bs)), bs, bs,
-                                   info.nz_used * sizeof(PetscScalar) / 1048576.0, pctype));
-  if (integ->pre) PetscCall(ClothPreconditionerView(integ->pre, viewer));
+  if (!integ->solver) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(ClothImplicitSolverViewSystem(integ->solver, viewer));
   if (integ->view) PetscCall(ClothIntegratorView(integ, viewer));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -625,7 +495,7 @@ PetscErrorCode ClothIntegratorViewSystem(ClothIntegrator integ, PetscViewer view
 PetscErrorCode ClothIntegratorRequestPreconditionerRebuild(ClothIntegrator integ)
 {
   PetscFunctionBeginUser;
-  if (integ->pre) PetscCall(ClothPreconditionerRestart(integ->pre));
+  if (integ->solver) PetscCall(ClothImplicitSolverRestart(integ->solver));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -639,7 +509,8 @@ PetscErrorCode ClothIntegratorGetFailure(ClothIntegrator integ, const char **why
 PetscErrorCode ClothIntegratorGetPCFallbacks(ClothIntegrator integ, PetscInt *count)
 {
   PetscFunctionBeginUser;
-  *count = integ->pc_fallbacks;
+  *count = 0;
+  if (integ->solver) PetscCall(ClothImplicitSolverGetFallbacks(integ->solver, count));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -655,18 +526,7 @@ PetscErrorCode ClothIntegratorView(ClothIntegrator integ, PetscViewer viewer)
   PetscFunctionBeginUser;
   PetscCall(PetscViewerASCIIPrintf(viewer, "Integrator: %s (a failing step is halved up to %" PetscInt_FMT " times)\n", integ->type, integ->max_halvings));
   if (integ->step == StepBDF2) PetscCall(PetscViewerASCIIPrintf(viewer, "Sub-steps taken as BDF2: %" PetscInt_FMT ", as backward Euler (no history of their size): %" PetscInt_FMT "\n", integ->order_steps[1], integ->order_steps[0]));
-  if (integ->ksp) {
-    PetscCall(PetscViewerASCIIPushTab(viewer));
-    PetscCall(KSPView(integ->ksp, viewer));
-    if (integ->pc_retries) PetscCall(PetscViewerASCIIPrintf(viewer, "Solves redone with a rebuilt preconditioner after one kept from earlier steps failed: %" PetscInt_FMT "\n", integ->pc_retries));
-    PetscCall(PetscViewerASCIIPopTab(viewer));
-  }
-  if (integ->pc_fallbacks) {
-    PetscCall(PetscViewerASCIIPrintf(viewer, "Solves redone by the fallback solver after a preconditioner breakdown: %" PetscInt_FMT "\n", integ->pc_fallbacks));
-    PetscCall(PetscViewerASCIIPushTab(viewer));
-    PetscCall(KSPView(integ->fallback_ksp, viewer));
-    PetscCall(PetscViewerASCIIPopTab(viewer));
-  }
+  if (integ->solver) PetscCall(ClothImplicitSolverView(integ->solver, viewer));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -684,9 +544,7 @@ PetscErrorCode ClothIntegratorDestroy(ClothIntegrator *integ)
   PetscCall(VecDestroy(&it->start_velocity));
   PetscCall(MatDestroy(&it->op));
   PetscCall(MatDestroy(&it->A));
-  PetscCall(KSPDestroy(&it->ksp));
-  PetscCall(KSPDestroy(&it->fallback_ksp));
-  PetscCall(ClothPreconditionerDestroy(&it->pre));
+  PetscCall(ClothImplicitSolverDestroy(&it->solver));
   PetscCall(VecDestroy(&it->dv_guess));
   PetscCall(VecDestroy(&it->start_dv));
   PetscCall(VecDestroy(&it->rhs));

@@ -246,21 +246,6 @@ static PetscErrorCode SetUpGridMultigrid(ClothPreconditioner pre, PC pc)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* A garment solved with point-block Jacobi (its default below CLOTH_PC_MULTILEVEL_MIN_PARTICLES) stops CG on its natural
-   norm (r^T B r)^(1/2) instead of PETSc's default preconditioned norm |B r|, at a relative decrease of
-   CLOTH_PC_GARMENT_RTOL instead of PETSc's 1e-5. -ksp_norm_type and -ksp_rtol override.
-   - The natural norm: one reduction less per iteration, and fewer iterations. Measured on the main job (the fitted
-     dress, 2 ranks, 1,250 steps, 2026-11-26): 298,090 against 340,828 iterations, 30.1-32.1 s against 32.8-37.5 s
-     (three runs each, in turns), the same quality. The hanging sheet with point-block Jacobi took 10 % more
-     iterations with it (65 x 65, the full second), so sheets keep the default.
-   - The tolerance: a garment's drape is chaotic (folds settle one way or another). On the main job, solved to 1e-7,
-     1e-5 and 1e-4, the runs at 1e-5 and 1e-4 are as far from the 1e-7 one at every time (RMS 1.6 and 2.0 mm at
-     t = 0.1 s, 19 and 18 mm at 5 s) as the same run on 1 rank is from 2 ranks (1.6 mm, 20 mm), with the same seam
-     gaps, strain and settling; the main job takes 210,757 iterations instead of 298,090 and 21.3-22.2 s instead of
-     26.7-27.3 s, the 12 mm dress 82.6 s instead of 93.5-97.0 s (docs/performance.md, 2026-11-26). 1e-3 opened the
-     seams to 0.63 mm. */
-#define CLOTH_PC_GARMENT_RTOL 1e-4
-
 /* Point-block Jacobi, or its seam-block form (seam_blocks.h). */
 static PetscErrorCode IsPointBlockJacobi(PC pc, PetscBool *is)
 {
@@ -270,21 +255,13 @@ static PetscErrorCode IsPointBlockJacobi(PC pc, PetscBool *is)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-static PetscErrorCode SetGarmentSolverDefaults(ClothPreconditioner pre, PC pc)
+PetscErrorCode ClothPreconditionerIsPointBlockJacobi(ClothPreconditioner pre, PetscBool *is)
 {
-  PetscBool   pbjacobi, norm_set, rtol_set;
-  ClothLayout layout;
-  const char *prefix;
+  PC pc;
 
   PetscFunctionBeginUser;
-  PetscCall(IsPointBlockJacobi(pc, &pbjacobi));
-  PetscCall(ClothGetLayout(pre->cloth, &layout));
-  if (!pbjacobi || layout.model->nseamlinks == 0) PetscFunctionReturn(PETSC_SUCCESS);
-  PetscCall(KSPGetOptionsPrefix(pre->ksp, &prefix));
-  PetscCall(PetscOptionsHasName(NULL, prefix, "-ksp_norm_type", &norm_set));
-  PetscCall(PetscOptionsHasName(NULL, prefix, "-ksp_rtol", &rtol_set));
-  if (!norm_set) PetscCall(KSPSetNormType(pre->ksp, KSP_NORM_NATURAL));
-  if (!rtol_set) PetscCall(KSPSetTolerances(pre->ksp, CLOTH_PC_GARMENT_RTOL, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT));
+  PetscCall(KSPGetPC(pre->ksp, &pc));
+  PetscCall(IsPointBlockJacobi(pc, is));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -335,7 +312,6 @@ PetscErrorCode ClothPreconditionerSetFromOptions(ClothPreconditioner pre)
   PetscCheck(pre->lag_excess >= 0 && pre->lag_pause >= 0, PetscObjectComm((PetscObject)pre->ksp), PETSC_ERR_USER_INPUT, "-implicit_pc_lag_excess %" PetscInt_FMT ", -implicit_pc_lag_pause %" PetscInt_FMT ": expected counts >= 0", pre->lag_excess,
              pre->lag_pause);
   PetscCheck(pre->rebuild_ratio >= 1 && PetscIsNormalReal(pre->rebuild_ratio), PetscObjectComm((PetscObject)pre->ksp), PETSC_ERR_USER_INPUT, "-implicit_pc_rebuild_ratio %g: expected a finite number >= 1", (double)pre->rebuild_ratio);
-  PetscCall(SetGarmentSolverDefaults(pre, pc));
   /* The finest level is smoothed with the block matrix itself (faster MatMult than its AIJ copy). */
   PetscCall(PCGetOptionsPrefix(pc, &prefix));
   PetscCall(PetscOptionsHasName(NULL, prefix, "-pc_use_amat", &use_amat_set));

@@ -1,4 +1,5 @@
-/* ClothPreconditioner: keeps the implicit solve's preconditioner up to date at the least cost.
+/* ClothPreconditioner: keeps the implicit solve's preconditioner up to date at the least cost. A part of
+   ClothImplicitSolver (implicit_solver.h), which owns the KSP, its tolerances and norm, and calls these functions.
 
    The default preconditioner of large systems is multigrid: on the pattern pieces' own grids (PCMG with the levels of
    gridhierarchy.h) for a scene without seams, smoothed aggregation (PCGAMG) for a garment. Its Krylov iteration count
@@ -65,6 +66,9 @@ PetscErrorCode ClothPreconditionerRequestRebuild(ClothPreconditioner pre);
 /* Forgets the lagging history (the pause after costly lags, its backoff) and requests a rebuild: the state of a run
    restarted from a checkpoint written now, so that the run that goes on and the restarted one take the same steps. */
 PetscErrorCode ClothPreconditionerRestart(ClothPreconditioner pre);
+/* Whether the KSP's preconditioner is point-block Jacobi or its seam-block form (seam_blocks.h): the solver's
+   garment defaults apply to those (ClothImplicitSolverSetFromOptions). After SetFromOptions. */
+PetscErrorCode ClothPreconditionerIsPointBlockJacobi(ClothPreconditioner pre, PetscBool *is);
 /* Whether the preconditioner is kept between steps (a multilevel one) at all. */
 PetscErrorCode ClothPreconditionerIsKept(ClothPreconditioner pre, PetscBool *kept);
 PetscErrorCode ClothPreconditionerView(ClothPreconditioner pre, PetscViewer viewer);

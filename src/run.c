@@ -8,7 +8,6 @@
 #include "checkpoint.h"
 #include "selfcontact.h"
 #include "sewing.h"
-#include "hysteresis.h"
 #include "quality.h"
 #include "log.h"
 #include "options.h"
@@ -49,12 +48,9 @@ struct _n_ClothRun {
   PetscReal gravity_ramp; /* s over which gravity rises from 0 to full (0: full from the start) */
 
   Vec      natural_position, natural_velocity, natural_dv; /* natural_dv: the implicit warm start */
-  Vec      natural_contact;                                /* contact normals (scenes with bodies) */
   Vec      natural_strain;                                 /* one value per particle, for frames */
   Vec      natural_body_contact, natural_self_contact;     /* contact fields of frames (output.h); zero when off */
   Vec      natural_stress, natural_pressure;               /* fit maps of frames (output.h) */
-  Vec      natural_sewn;                                   /* sewn seams per particle (sewing.h), checkpoints */
-  Vec      natural_slider[CLOTH_SLIDER_FAMILIES];          /* hysteresis sliders by ClothSliderFamily (cloth.h), checkpoints; NULL without */
   char     last_checkpoint[CLOTH_PATH_LEN];
   PetscInt krylov_total, substeps_total;
 
@@ -265,15 +261,16 @@ static PetscErrorCode ClothRunHistoryCheckpoint(ClothRun run, PetscBool write, P
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* The checkpoint fields, in natural order: position, velocity, the implicit integrator's warm start
-   (without which a restarted run's first Krylov solves would start from zero and differ from an
-   uninterrupted run's at the solver tolerance; left out with with_dv false), in scenes with bodies,
-   the contact normals of the particles held on a body (the constraints of the next step), the sewn seams,
-   the sliders of bending and shear hysteresis (without which the fabric would forget its friction), and bdf2's history
-   when the run keeps one (ClothRunHistoryCheckpoint). A field new state adds goes here (and CLOTH_RUN_MAX_FIELDS
-   grows). */
-#define CLOTH_RUN_MAX_FIELDS 9
-static PetscErrorCode ClothRunCheckpointFields(ClothRun run, PetscBool with_dv, ClothCheckpointField fields[CLOTH_RUN_MAX_FIELDS], PetscInt *nfields)
+/* The checkpoint fields (natural order). The run's own: position, velocity, the implicit integrator's warm start
+   (without which a restarted run's first Krylov solves would start from zero and differ from an uninterrupted run's
+   at the solver tolerance; left out with with_dv false) and, last, bdf2's history when the run keeps one
+   (ClothRunHistoryCheckpoint). Between them the state of the cloth's contributions, which each declares itself
+   (cloth.h, checkpoint_fields: hysteresis sliders, held body contacts, sewn seams), so that the run needs no change
+   for a new one: *ncontributed fields from fields[*first] on, lent (give them back with
+   ClothRestoreCheckpointFields). */
+#define CLOTH_RUN_OWN_FIELDS 5
+#define CLOTH_RUN_FIELDS_CAPACITY (CLOTH_RUN_OWN_FIELDS + CLOTH_MAX_CONTRIBUTIONS * CLOTH_CONTRIBUTION_MAX_FIELDS)
+static PetscErrorCode ClothRunCheckpointFields(ClothRun run, PetscBool write, PetscBool with_dv, ClothCheckpointField fields[CLOTH_RUN_FIELDS_CAPACITY], PetscInt *nfields, PetscInt *first, PetscInt *ncontributed)
 {
   PetscInt n = 0;
 
@@ -281,20 +278,25 @@ static PetscErrorCode ClothRunCheckpointFields(ClothRun run, PetscBool with_dv, 
   fields[n++] = (ClothCheckpointField){"position", run->natural_position, PETSC_TRUE, PETSC_FALSE};
   fields[n++] = (ClothCheckpointField){"velocity", run->natural_velocity, PETSC_TRUE, PETSC_FALSE};
   if (with_dv) fields[n++] = (ClothCheckpointField){"implicit_dv", run->natural_dv, PETSC_FALSE, PETSC_FALSE};
-  if (run->natural_contact) fields[n++] = (ClothCheckpointField){"contact_normal", run->natural_contact, PETSC_FALSE, PETSC_FALSE};
-  if (run->natural_sewn) fields[n++] = (ClothCheckpointField){"seams_sewn", run->natural_sewn, PETSC_TRUE, PETSC_FALSE};
-  for (PetscInt f = 0; f < CLOTH_SLIDER_FAMILIES; f++) {
-    const char *name;
-
-    if (!run->natural_slider[f]) continue;
-    PetscCall(PetscObjectGetName((PetscObject)run->natural_slider[f], &name));
-    fields[n++] = (ClothCheckpointField){name, run->natural_slider[f], PETSC_TRUE, PETSC_FALSE};
-  }
-  if (run->natural_history[0]) { /* last, so that the indices above stay */
+  *first = n;
+  PetscCall(ClothGetCheckpointFields(run->cloth, write, CLOTH_RUN_FIELDS_CAPACITY - n - 2, &fields[n], ncontributed));
+  n += *ncontributed;
+  if (run->natural_history[0]) {
     fields[n++] = (ClothCheckpointField){"bdf2_history_rate", run->natural_history[0], PETSC_FALSE, PETSC_FALSE};
     fields[n++] = (ClothCheckpointField){"bdf2_history_velocity", run->natural_history[1], PETSC_FALSE, PETSC_FALSE};
   }
   *nfields = n;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Whether the file read held the field of this name. */
+static PetscErrorCode ClothRunCheckpointFieldFound(PetscInt nfields, const ClothCheckpointField fields[], const char name[], PetscBool *found)
+{
+  const ClothCheckpointField *field;
+
+  PetscFunctionBeginUser;
+  PetscCall(ClothCheckpointFieldFind(nfields, fields, name, &field));
+  *found = field && field->found ? PETSC_TRUE : PETSC_FALSE;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -330,14 +332,15 @@ static PetscErrorCode ClothRunAdoptCheckpointSettings(ClothRun run, const ClothC
 static PetscErrorCode ClothRunRestore(ClothRun run)
 {
   ClothCheckpointInfo  expect, info;
-  ClothCheckpointField fields[CLOTH_RUN_MAX_FIELDS];
-  PetscInt             nfields;
-  Vec                  x, v, normals;
+  ClothCheckpointField fields[CLOTH_RUN_FIELDS_CAPACITY];
+  PetscInt             nfields, first, ncontributed;
+  PetscBool            dv_found = PETSC_FALSE, rate_found = PETSC_FALSE, velocity_found = PETSC_FALSE;
+  Vec                  x, v;
 
   PetscFunctionBeginUser;
   PetscCall(ClothRunFillCheckpointInfo(run, &expect));
   PetscCall(ClothRunHistoryCheckpoint(run, PETSC_FALSE, NULL));
-  PetscCall(ClothRunCheckpointFields(run, PETSC_TRUE, fields, &nfields));
+  PetscCall(ClothRunCheckpointFields(run, PETSC_FALSE, PETSC_TRUE, fields, &nfields, &first, &ncontributed));
   PetscCall(PetscLogEventBegin(ClothLog.checkpoint_read, 0, 0, 0, 0));
   PetscCall(ClothCheckpointRead(run->comm, run->restart, run->restart_any_scene ? NULL : &expect, &info, nfields, fields));
   if (info.scene_fingerprint != expect.scene_fingerprint)
@@ -346,22 +349,19 @@ static PetscErrorCode ClothRunRestore(ClothRun run)
   PetscCall(ClothGetState(run->cloth, &x, &v));
   PetscCall(ClothScatterToNatural(run->cloth, x, run->natural_position, SCATTER_REVERSE));
   PetscCall(ClothScatterToNatural(run->cloth, v, run->natural_velocity, SCATTER_REVERSE));
-  if (!fields[2].found) PetscCall(VecZeroEntries(run->natural_dv)); /* written by another integrator: no warm start */
-  if (run->natural_contact && fields[3].found) {
-    PetscCall(ClothGetContactNormals(run->cloth, &normals));
-    PetscCall(ClothScatterToNatural(run->cloth, normals, run->natural_contact, SCATTER_REVERSE));
-    PetscCall(ClothCollisionRestoreHeldContacts(run->collision));
-  }
+  PetscCall(ClothRunCheckpointFieldFound(nfields, fields, "implicit_dv", &dv_found));
+  if (!dv_found) PetscCall(VecZeroEntries(run->natural_dv));                             /* written by another integrator: no warm start */
+  PetscCall(ClothLoadCheckpointFields(run->cloth, &info, ncontributed, &fields[first])); /* contacts, seams, sliders */
+  PetscCall(ClothRestoreCheckpointFields(run->cloth, ncontributed, &fields[first]));
   run->step = (PetscInt)info.step;
   run->time = info.time;
   if (info.run_id) run->run_id = info.run_id; /* the same run continues: its pruning covers its earlier checkpoints */
-  if (run->sewing) PetscCall(ClothSewingSetStateVec(run->sewing, run->natural_sewn, run->time));
-  for (PetscInt f = 0; f < CLOTH_SLIDER_FAMILIES; f++)
-    if (run->natural_slider[f]) PetscCall(ClothHysteresisSetState(run->cloth, (ClothSliderFamily)f, run->natural_slider[f]));
-  run->history_dt = fields[nfields - 1].found && fields[nfields - 2].found ? info.history_dt : 0; /* the history fields are last */
+  PetscCall(ClothRunCheckpointFieldFound(nfields, fields, "bdf2_history_rate", &rate_found));
+  PetscCall(ClothRunCheckpointFieldFound(nfields, fields, "bdf2_history_velocity", &velocity_found));
+  run->history_dt = rate_found && velocity_found ? info.history_dt : 0;
   PetscCall(ClothRunAdoptCheckpointSettings(run, &info));
   PetscCall(PetscPrintf(run->comm, "Restarting from %s: step %" PetscInt_FMT ", t = %.6f s, dt = %g s (written by integrator %s, %s)\n", run->restart, run->step, (double)run->time, (double)info.dt, info.integrator,
-                        fields[2].found ? "with its warm start" : "without a warm start"));
+                        dv_found ? "with its warm start" : "without a warm start"));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -602,7 +602,6 @@ PetscErrorCode ClothRunSetUp(ClothRun run)
   PetscCall(ClothCreateNaturalVec(run->cloth, &run->natural_position));
   PetscCall(ClothCreateNaturalVec(run->cloth, &run->natural_velocity));
   PetscCall(ClothCreateNaturalVec(run->cloth, &run->natural_dv));
-  if (run->collision) PetscCall(ClothCreateNaturalVec(run->cloth, &run->natural_contact));
   PetscCall(ClothCreateStrainVec(run->cloth, &run->natural_strain));
   PetscCall(VecDuplicate(run->natural_strain, &run->natural_body_contact)); /* one value per particle */
   PetscCall(VecDuplicate(run->natural_strain, &run->natural_self_contact));
@@ -615,9 +614,7 @@ PetscErrorCode ClothRunSetUp(ClothRun run)
     PetscCall(ClothSewingSetFromOptions(run->sewing));
     PetscCall(ClothSewingSetUp(run->sewing));
     if (run->self_contact) PetscCall(ClothSelfContactSetExclusion(run->self_contact, ClothSewingExcludeContact, run->sewing));
-    PetscCall(VecDuplicate(run->natural_strain, &run->natural_sewn)); /* one value per particle */
   }
-  for (PetscInt f = 0; f < CLOTH_SLIDER_FAMILIES; f++) PetscCall(ClothHysteresisCreateStateVec(run->cloth, (ClothSliderFamily)f, &run->natural_slider[f]));
   PetscCall(PetscObjectSetName((PetscObject)run->natural_position, "position"));
   PetscCall(PetscObjectSetName((PetscObject)run->natural_velocity, "velocity"));
   if (run->restart[0]) PetscCall(ClothRunRestore(run));
@@ -731,9 +728,9 @@ static PetscErrorCode ClothRunWriteFrame(ClothRun run)
 static PetscErrorCode ClothRunWriteCheckpoint(ClothRun run)
 {
   ClothCheckpointInfo  info;
-  ClothCheckpointField fields[CLOTH_RUN_MAX_FIELDS];
-  PetscInt             nfields;
-  Vec                  dv, normals;
+  ClothCheckpointField fields[CLOTH_RUN_FIELDS_CAPACITY];
+  PetscInt             nfields, first, ncontributed;
+  Vec                  dv;
   PetscReal            history_dt;
 
   PetscFunctionBeginUser;
@@ -741,18 +738,12 @@ static PetscErrorCode ClothRunWriteCheckpoint(ClothRun run)
   PetscCall(ClothRunGatherNatural(run));
   PetscCall(ClothIntegratorGetWarmStart(run->integrator, &dv));
   if (dv) PetscCall(ClothScatterToNatural(run->cloth, dv, run->natural_dv, SCATTER_FORWARD));
-  if (run->natural_contact) {
-    PetscCall(ClothGetContactNormals(run->cloth, &normals));
-    PetscCall(ClothScatterToNatural(run->cloth, normals, run->natural_contact, SCATTER_FORWARD));
-  }
-  if (run->sewing) PetscCall(ClothSewingGetStateVec(run->sewing, run->natural_sewn));
-  for (PetscInt f = 0; f < CLOTH_SLIDER_FAMILIES; f++)
-    if (run->natural_slider[f]) PetscCall(ClothHysteresisGetState(run->cloth, (ClothSliderFamily)f, run->natural_slider[f]));
   PetscCall(ClothRunHistoryCheckpoint(run, PETSC_TRUE, &history_dt));
-  PetscCall(ClothRunCheckpointFields(run, dv ? PETSC_TRUE : PETSC_FALSE, fields, &nfields));
+  PetscCall(ClothRunCheckpointFields(run, PETSC_TRUE, dv ? PETSC_TRUE : PETSC_FALSE, fields, &nfields, &first, &ncontributed));
   PetscCall(ClothRunFillCheckpointInfo(run, &info));
   info.history_dt = history_dt;
   PetscCall(ClothCheckpointWrite(run->comm, run->output_dir, &info, nfields, fields, run->checkpoint_keep, run->last_checkpoint, sizeof(run->last_checkpoint)));
+  PetscCall(ClothRestoreCheckpointFields(run->cloth, ncontributed, &fields[first]));
   PetscCall(ClothIntegratorRequestPreconditionerRebuild(run->integrator)); /* as a restart from this checkpoint */
   PetscCall(PetscLogEventEnd(ClothLog.checkpoint, 0, 0, 0, 0));
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -908,15 +899,11 @@ PetscErrorCode ClothRunDestroy(ClothRun *run)
   PetscCall(VecDestroy(&r->natural_velocity));
   PetscCall(VecDestroy(&r->natural_dv));
   for (PetscInt k = 0; k < 2; k++) PetscCall(VecDestroy(&r->natural_history[k]));
-  PetscCall(VecDestroy(&r->natural_contact));
   PetscCall(VecDestroy(&r->natural_strain));
   PetscCall(VecDestroy(&r->natural_body_contact));
   PetscCall(VecDestroy(&r->natural_self_contact));
   PetscCall(VecDestroy(&r->natural_stress));
   PetscCall(VecDestroy(&r->natural_pressure));
-  PetscCall(VecDestroy(&r->natural_sewn));
-  PetscCall(VecDestroy(&r->natural_slider[CLOTH_SLIDERS_BEND]));
-  PetscCall(VecDestroy(&r->natural_slider[CLOTH_SLIDERS_SHEAR]));
   PetscCall(PetscFree(*run));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -493,6 +493,24 @@ PetscErrorCode SceneKeyChoice(SceneReader *r, yaml_node_t *map, const char key[]
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+PetscErrorCode SceneReadList(SceneReader *r, yaml_node_t *root, const SceneList *list, void *ctx, void *items, PetscInt *n)
+{
+  yaml_node_t      *node;
+  yaml_node_item_t *item = NULL;
+
+  PetscFunctionBeginUser;
+  PetscCall(SceneGetValueChecked(r, root, list->key, list->required, list->expected, &node));
+  if (!node) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(SceneGetItems(r, node, list->key, -1, list->expected, &item, n));
+  if (list->required && *n == 0) PetscCall(SceneFailValue(r, node, list->key, "%s", list->expected));
+  PetscCheck(list->max < 0 || *n <= list->max, r->comm, PETSC_ERR_USER_INPUT, "scene %s, line %d: key '%s': expected at most %" PetscInt_FMT " %s (%s), got %" PetscInt_FMT, r->path, SceneNodeLine(node), list->key, list->max, list->key, list->why_max,
+             *n);
+  PetscCall(PetscCalloc((size_t)*n * list->item_size, items));
+  for (PetscInt i = 0; i < *n; i++) PetscCall(list->read_item(r, yaml_document_get_node(r->doc, item[i]), ctx, i));
+  r->block[0] = 0;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode SceneCheckNesting(MPI_Comm comm, const char path[], const char bytes[], size_t len, int max_depth)
 {
   yaml_parser_t parser;

@@ -1,6 +1,6 @@
-/* The generic part of the scene reader (src/scene.c has the schema): typed access to the keys of a YAML map
-   parsed by libyaml's document API, each error one line naming the file, the line (libyaml's mark, 1-based),
-   the key and the block, what was expected and what was found:
+/* The generic part of the scene reader (the schema and the blocks are in src/scene.c and its files, scene_impl.h):
+   typed access to the keys of a YAML map parsed by libyaml's document API, each error one line naming the file,
+   the line (libyaml's mark, 1-based), the key and the block, what was expected and what was found:
      scene FILE, line L: key 'KEY' in fabric 'NAME': expected a positive number (kg/m^2), got '-1'
    Every function is collective on the reader's communicator: every rank parses the same bytes and fails or
    succeeds alike. Keys: SceneKey* read map[key] into their output, which keeps its default when the key is
@@ -147,6 +147,25 @@ PetscErrorCode SceneCheckNameUnique(SceneReader *r, yaml_node_t *node, const cha
 
 /* One of the names of a PETSc enum-style list (names..., type name, prefix, NULL); returns its index. */
 PetscErrorCode SceneKeyChoice(SceneReader *r, yaml_node_t *map, const char key[], PetscBool required, const char *const choices[], PetscInt *index);
+
+/* Reads item number index of a list block (SceneReadList) into the caller's array; ctx is the caller's (the scene). */
+typedef PetscErrorCode (*SceneItemReader)(SceneReader *r, yaml_node_t *item, void *ctx, PetscInt index);
+
+/* A top-level list of items (pieces:, bodies:, seams:) and how each item is read. */
+typedef struct {
+  const char     *key;       /* its key in the top-level map */
+  const char     *expected;  /* what it must be, in messages */
+  PetscBool       required;  /* it must be given, with at least one item */
+  PetscInt        max;       /* the most items (< 0: any number) */
+  const char     *why_max;   /* why, in the message */
+  size_t          item_size; /* bytes of one item of the array */
+  SceneItemReader read_item; /* reads one item */
+} SceneList;
+
+/* Reads root[list->key], a list of items: *n items, in *items (the address of the array's pointer), allocated and
+   zeroed, each read in order by list->read_item; r->block is "" afterwards. Absent and not required: *n and *items
+   are left as they are. */
+PetscErrorCode SceneReadList(SceneReader *r, yaml_node_t *root, const SceneList *list, void *ctx, void *items, PetscInt *n);
 
 /* The deepest nesting of lists and maps a scene may have; a scene needs 6 (pieces, a piece, its boundaries, a
    boundary, a point under the top-level map). */

@@ -120,6 +120,32 @@ PetscErrorCode ClothSewingExcludeContact(void *ctx, PetscInt a, PetscInt b, Pets
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* The sewn seams as the checkpoint field seams_sewn (ClothSewingGetStateVec): the sewing's ClothContribution, which
+   adds no force (the seam links' stiffness is set on seam_links.c's contribution) but owns this state. */
+static PetscErrorCode SewingCheckpointFields(void *ctx, PetscBool write, ClothCheckpointField fields[], PetscInt *nfields)
+{
+  ClothSewing sewing = (ClothSewing)ctx;
+  Vec         sewn;
+
+  PetscFunctionBeginUser;
+  PetscCall(ClothCreateStrainVec(sewing->cloth, &sewn)); /* one value per particle, natural order */
+  if (write) PetscCall(ClothSewingGetStateVec(sewing, sewn));
+  fields[0] = (ClothCheckpointField){"seams_sewn", sewn, PETSC_TRUE, PETSC_FALSE};
+  *nfields  = 1;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The phase follows from the sewn seams and the checkpoint's time. */
+static PetscErrorCode SewingCheckpointLoad(void *ctx, const ClothCheckpointInfo *info, PetscInt nfields, const ClothCheckpointField fields[])
+{
+  const ClothCheckpointField *field;
+
+  PetscFunctionBeginUser;
+  PetscCall(ClothCheckpointFieldFind(nfields, fields, "seams_sewn", &field));
+  if (field && field->found) PetscCall(ClothSewingSetStateVec((ClothSewing)ctx, field->vec, info->time));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode ClothSewingCreate(Cloth cloth, Scene scene, ClothSewing *sewing)
 {
   ClothSewing s;
@@ -139,6 +165,11 @@ PetscErrorCode ClothSewingCreate(Cloth cloth, Scene scene, ClothSewing *sewing)
   PetscCall(ClothSewingMarkSeamBands(s, scene, model));
   PetscCall(ClothSewingMarkJoinedBands(s, model));
   PetscCall(ClothSewingBuildPartners(s, model));
+  {
+    const ClothContribution state = {.name = "sewing", .ctx = s, .checkpoint_fields = SewingCheckpointFields, .checkpoint_load = SewingCheckpointLoad};
+
+    PetscCall(ClothAddContribution(cloth, &state)); /* removed by ClothSewingDestroy */
+  }
   *sewing = s;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -349,6 +380,7 @@ PetscErrorCode ClothSewingDestroy(ClothSewing *sewing)
 {
   PetscFunctionBeginUser;
   if (!*sewing) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(ClothRemoveContribution((*sewing)->cloth, *sewing));
   PetscCall(PetscFree2((*sewing)->sewn, (*sewing)->closed));
   PetscCall(PetscFree((*sewing)->near));
   PetscCall(PetscFree((*sewing)->near_joined));

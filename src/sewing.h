@@ -3,8 +3,9 @@
    Phase "pull": gravity is off and every seam pair is pulled towards the midpoint between its two
    points (seam.h). A pair whose gap falls below the tolerance is sewn: from then on a stiff spring
    holds it. Phase "settle" starts when every pair is sewn (or after -sewing_max_time of pulling, with
-   a warning naming the widest gap): gravity comes on and the garment settles on the body. The phase,
-   and which pairs are sewn, go into checkpoints. */
+   a warning naming the widest gap): gravity comes on and the garment settles on the body. Which pairs are
+   sewn goes into checkpoints (the field seams_sewn, declared, written and read by the sewing's own
+   ClothContribution, registered by ClothSewingCreate; the phase follows from it and the time). */
 #pragma once
 #include "cloth.h"
 
@@ -13,6 +14,7 @@ extern const char *const ClothSewingPhases[];
 
 typedef struct _n_ClothSewing *ClothSewing;
 
+/* The cloth must be set up; destroy the sewing before the cloth. */
 PetscErrorCode ClothSewingCreate(Cloth cloth, Scene scene, ClothSewing *sewing);
 /* -sewing_max_time: seconds of pulling after which gravity comes on even with pairs still open. */
 PetscErrorCode ClothSewingSetFromOptions(ClothSewing sewing);

@@ -7,8 +7,8 @@ Usage: check_contacts.py SERIES.h5 SCENE.yaml CONTACTS.csv --body-free-until T -
 
 Bodies: the scene's spheres and planes (analytic: distances computed here from the positions). A particle
 is in contact with a body when, after the collision pass of the step, it lies closer to the surface than
-the contact distance D = thickness + slop, slop = max(thickness / 2, 1e-5 m) (src/collision.c:
-ContactSlop); the pass puts particles closer than the thickness back onto it and leaves the others where
+the contact distance D = thickness + slop, slop = max(thickness / 2, 1e-5 m) (src/collision_response.c:
+CollisionContactSlop); the pass puts particles closer than the thickness back onto it and leaves the others where
 they are. So in every frame:
   - a particle not marked in contact (body_contact 0) is at D or farther from every body (exactly: the
     collision pass did not touch it);

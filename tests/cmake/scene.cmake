@@ -1,4 +1,4 @@
-# Scene reader (src/scene.c): the reader checked value by value (test_scene, on 1 and 2 ranks), and
+# Scene reader (src/scene.c and its files, src/scene_impl.h): the reader checked value by value (test_scene, on 1 and 2 ranks), and
 # clothsim refusing each bad scene of tests/bad_input/ with a message that names the file, the line, the key and
 # what was expected (expect_error.sh reads the expected text from the "# expect:" lines of each file).
 

@@ -1,5 +1,5 @@
 #!/bin/bash
-# The implicit solve's defaults for garments (src/preconditioner.c, SetGarmentSolverDefaults): a scene with seams on
+# The implicit solve's defaults for garments (src/implicit_solver.c, SetGarmentDefaults): a scene with seams on
 # point-block Jacobi stops CG on its natural norm at a relative decrease of 1e-4; -ksp_rtol and -ksp_norm_type
 # override; a scene without seams keeps PETSc's (1e-5, the preconditioned norm). Read from -integrator_view's KSP.
 # The garment's preconditioner is seam-block Jacobi (src/seam_blocks.c; -implicit_pc_seam_blocks false: point-block

@@ -1,5 +1,5 @@
 #!/bin/bash
-# The preconditioner fallback of the implicit solve (src/integrator.c SolveImplicitSystem): the hanging sheet
+# The preconditioner fallback of the implicit solve (src/implicit_solver.c ClothImplicitSolverSolve): the hanging sheet
 # at 33 x 33 with dt = 1/60 s (60 steps), solved with SBAIJ + ICC(0), whose incomplete factor breaks down
 # (DIVERGED_INDEFINITE_PC) on about a third of these large steps. Each such solve must be redone by the
 # fallback solver instead of halving the step, and the run must end where the default solver (BAIJ + CG +
