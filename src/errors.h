@@ -5,7 +5,7 @@
 #include <petscsys.h>
 #include "util.h"
 
-/* Exit statuses of user errors (README "Exit status"); internal errors exit with PETSc's error code. */
+/* Exit statuses of user errors (docs/guide.md, "Errors and exit status"); internal errors exit with PETSc's error code. */
 typedef enum {
   CLOTH_EXIT_INPUT    = 2, /* bad scene, option, mesh, checkpoint or output directory (PETSC_ERR_USER_INPUT, ...) */
   CLOTH_EXIT_FILE     = 3, /* a file could not be read or written (PETSC_ERR_FILE_*): missing, disk full, ... */
