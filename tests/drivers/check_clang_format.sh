@@ -13,9 +13,12 @@ shopt -s nullglob
 files=(src/*.c src/*.h)
 [[ ${#files[@]} -gt 0 ]] || { echo "FAIL: no src/*.c or src/*.h under $(pwd)"; exit 1; }
 drift=()
-for file in "${files[@]}"; do
-  "$clang_format" --dry-run -Werror --style=file "$file" > /dev/null 2>&1 || drift+=("$file")
-done
+if ! "$clang_format" --dry-run -Werror --style=file "${files[@]}" > /dev/null 2>&1; then
+  for file in "${files[@]}"; do
+    "$clang_format" --dry-run -Werror --style=file "$file" > /dev/null 2>&1 || drift+=("$file")
+  done
+  [[ ${#drift[@]} -gt 0 ]] || drift=("(clang-format failed on all the files at once but on none alone)")
+fi
 if [[ ${#drift[@]} -gt 0 ]]; then
   echo "FAIL: ${#drift[@]} of ${#files[@]} files are not formatted as .clang-format says: ${drift[*]}"
   "$clang_format" --dry-run -Werror --style=file "${drift[@]}" 2>&1 | head -40
