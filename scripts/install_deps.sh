@@ -6,6 +6,7 @@
 #
 # Packages (checked with Debian 12's PETSc 3.18.5, Open MPI 4.1.4, HDF5 1.10.8, METIS 5.1.0, CMake 3.25.1, GCC 12.2):
 #   build:        gcc libc6-dev make cmake pkg-config
+#   style:        clang-format   (14 on Debian 12; the ctest style_clang_format checks src/ against .clang-format)
 #   libraries:    petsc-dev libopenmpi-dev openmpi-bin libhdf5-openmpi-dev libmetis-dev libyaml-dev
 #                 libopenblas0-serial   (an optimised BLAS/LAPACK in place of the reference one, through Debian's
 #                 alternatives: MUMPS's Cholesky factorisation, which the fine-grid drape study uses, runs
@@ -19,7 +20,7 @@
 set -euo pipefail
 
 packages=(
-  gcc libc6-dev make cmake pkg-config
+  gcc libc6-dev make cmake pkg-config clang-format
   petsc-dev libopenmpi-dev openmpi-bin libhdf5-openmpi-dev libmetis-dev libyaml-dev libopenblas0-serial
   hdf5-tools python3-h5py python3-matplotlib python3-numpy python3-ezdxf
   paraview python3-paraview xvfb xauth ffmpeg

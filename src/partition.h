@@ -5,8 +5,8 @@
 #include "util.h"
 
 typedef enum {
-  CLOTH_PARTITION_METIS, /* METIS_PartGraphKway on the interaction graph (default) */
-  CLOTH_PARTITION_BLOCK, /* contiguous blocks of the natural order (for comparison) */
+  CLOTH_PARTITION_METIS,    /* METIS_PartGraphKway on the interaction graph (default) */
+  CLOTH_PARTITION_BLOCK,    /* contiguous blocks of the natural order (for comparison) */
   CLOTH_PARTITION_PTSCOTCH, /* PETSc MatPartitioning "ptscotch", every rank partitioning its block of rows */
   CLOTH_PARTITION_PARMETIS  /* PETSc MatPartitioning "parmetis" (only when PETSc was built with it) */
 } ClothPartitionType;

@@ -54,10 +54,22 @@ static void SideNode(const ScenePiece *piece, ClothPieceSide side, PetscInt k, P
   const PetscInt nu = piece->nu, nv = piece->nv;
 
   switch (side) {
-  case CLOTH_SIDE_BOTTOM: *node = k; *inner = nu + k; break;
-  case CLOTH_SIDE_TOP: *node = (nv - 1) * nu + k; *inner = (nv - 2) * nu + k; break;
-  case CLOTH_SIDE_LEFT: *node = k * nu; *inner = k * nu + 1; break;
-  default: *node = k * nu + nu - 1; *inner = k * nu + nu - 2; break; /* right */
+  case CLOTH_SIDE_BOTTOM:
+    *node  = k;
+    *inner = nu + k;
+    break;
+  case CLOTH_SIDE_TOP:
+    *node  = (nv - 1) * nu + k;
+    *inner = (nv - 2) * nu + k;
+    break;
+  case CLOTH_SIDE_LEFT:
+    *node  = k * nu;
+    *inner = k * nu + 1;
+    break;
+  default:
+    *node  = k * nu + nu - 1;
+    *inner = k * nu + nu - 2;
+    break; /* right */
   }
 }
 
@@ -119,8 +131,8 @@ static void LinkSides(PetscInt seam_index, const SeamSide *dense, PetscInt offse
     PetscReal       w;
 
     while (m + 2 < other->n && other->t[m + 1] < t) m++;
-    w = (t - other->t[m]) / (other->t[m + 1] - other->t[m]);
-    w = PetscMin(PetscMax(w, 0.0), 1.0);
+    w                = (t - other->t[m]) / (other->t[m + 1] - other->t[m]);
+    w                = PetscMin(PetscMax(w, 0.0), 1.0);
     link->seam       = seam_index;
     link->p[0]       = offset_dense + dense->node[k];
     link->c[0]       = 1.0;
@@ -137,7 +149,8 @@ static void LinkSides(PetscInt seam_index, const SeamSide *dense, PetscInt offse
       link->c[1] = -(1.0 - w);
       link->c[2] = -w;
     }
-    if (bend && link->np == 3) bend[k].inner = -1; /* no bending site: see seam.h */
+    if (bend && link->np == 3)
+      bend[k].inner = -1; /* no bending site: see seam.h */
     else if (bend) {
       bend[k].inner       = offset_dense + dense->inner[k];
       bend[k].node        = offset_dense + dense->node[k];
@@ -150,12 +163,14 @@ static void LinkSides(PetscInt seam_index, const SeamSide *dense, PetscInt offse
 
 PetscErrorCode SeamBuildLinks(PetscInt seam_index, const SceneSeam *seam, const SeamSide *a, PetscInt offset_a, const SeamSide *b, PetscInt offset_b, ClothSeamLink links[], SeamBendSite bend[], PetscInt *nadded)
 {
-  const PetscBool        a_dense = a->n >= b->n ? PETSC_TRUE : PETSC_FALSE;
-  const SceneSeamSide   *dense   = a_dense ? &seam->a : &seam->b;
+  const PetscBool      a_dense = a->n >= b->n ? PETSC_TRUE : PETSC_FALSE;
+  const SceneSeamSide *dense   = a_dense ? &seam->a : &seam->b;
 
   PetscFunctionBeginUser;
-  if (a_dense) LinkSides(seam_index, a, offset_a, b, offset_b, links, bend);
-  else LinkSides(seam_index, b, offset_b, a, offset_a, links, bend);
+  if (a_dense)
+    LinkSides(seam_index, a, offset_a, b, offset_b, links, bend);
+  else
+    LinkSides(seam_index, b, offset_b, a, offset_a, links, bend);
   *nadded = PetscMax(a->n, b->n);
   for (PetscInt k = 0; bend && k < *nadded; k++) {
     bend[k].dense_piece = dense->piece;

@@ -18,12 +18,12 @@
 #define CLOTH_SEAM_LINK_MAX_PARTICLES 3
 
 typedef struct {
-  PetscInt  np;                                   /* 2, or 3 when the point on the other side is interpolated */
-  PetscInt  p[CLOTH_SEAM_LINK_MAX_PARTICLES];     /* p[0]: the node; p[1..]: the other side's nodes */
-  PetscReal c[CLOTH_SEAM_LINK_MAX_PARTICLES];     /* gap vector = sum_k c[k] x[p[k]]; c[0] = 1, the rest sum to -1 */
-  PetscInt  seam;                                 /* index into Scene.seams */
-  PetscReal pull_force;                           /* N: the constant pull while far apart (0 once sewn) */
-  PetscReal k;                                    /* N/m: stiffness near the pair (pull) or of the sewn spring */
+  PetscInt  np;                               /* 2, or 3 when the point on the other side is interpolated */
+  PetscInt  p[CLOTH_SEAM_LINK_MAX_PARTICLES]; /* p[0]: the node; p[1..]: the other side's nodes */
+  PetscReal c[CLOTH_SEAM_LINK_MAX_PARTICLES]; /* gap vector = sum_k c[k] x[p[k]]; c[0] = 1, the rest sum to -1 */
+  PetscInt  seam;                             /* index into Scene.seams */
+  PetscReal pull_force;                       /* N: the constant pull while far apart (0 once sewn) */
+  PetscReal k;                                /* N/m: stiffness near the pair (pull) or of the sewn spring */
 } ClothSeamLink;
 
 /* Energy, forces (3 np) and Hessian (3np x 3np, row-major) of a seam link at positions x[k] of its
@@ -55,7 +55,7 @@ PetscErrorCode SeamSideDestroy(SeamSide *side);
    nodes, the links at the nodes that meet (every (n-1)/gcd(n-1, m-1)-th, and always both ends). */
 typedef struct {
   PetscInt  inner, node, other_node, other_inner;
-  PetscInt  along; /* a neighbour of node along its side: the seam's local node spacing is |x_node - x_along| */
+  PetscInt  along;      /* a neighbour of node along its side: the seam's local node spacing is |x_node - x_along| */
   PetscBool dense_warp; /* the node's inward step runs along the warp (left/right sides) */
   PetscInt  dense_piece;
 } SeamBendSite;

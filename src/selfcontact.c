@@ -932,8 +932,7 @@ PetscErrorCode ClothSelfContactView(ClothSelfContact sc, PetscViewer viewer)
                                    sc->searches ? (double)sum[0] / (double)sc->searches : 0.0, sc->searches ? (double)sum[4] / (double)sc->searches : 0.0, (PetscInt)sum[1], (PetscInt)sum[2]));
   PetscCall(PetscViewerASCIIPrintf(viewer, "  candidates (velocity margin %g x thickness): found %" PetscInt_FMT " times, %.1f per search (%.3f per particle), at most %" PetscInt_FMT " on a rank\n", (double)sc->velocity_margin, sc->builds,
                                    sc->builds ? (double)sum[3] / (double)sc->builds : 0.0, sc->builds ? (double)sum[3] / (double)sc->builds / (double)sc->layout.nglobal : 0.0, cmax));
-  PetscCall(PetscViewerASCIIPrintf(viewer,
-                                   "  broad phase (tiles of %d x %d cells): %.1f pairs of tiles near each other a search, %.1f %% of them proved apart; %.1f pairs of primitives (%.3f per particle) a search to the narrow phase\n",
+  PetscCall(PetscViewerASCIIPrintf(viewer, "  broad phase (tiles of %d x %d cells): %.1f pairs of tiles near each other a search, %.1f %% of them proved apart; %.1f pairs of primitives (%.3f per particle) a search to the narrow phase\n",
                                    SELF_CONTACT_TILE, SELF_CONTACT_TILE, sc->builds ? (double)sum[5] / (double)sc->builds : 0.0, sum[5] ? 100.0 * (double)sum[6] / (double)sum[5] : 0.0, sc->builds ? (double)sum[7] / (double)sc->builds : 0.0,
                                    sc->builds ? (double)sum[7] / (double)sc->builds / (double)sc->layout.nglobal : 0.0));
   if (sc->friction)

@@ -73,26 +73,26 @@ struct _n_ClothSelfContact {
 
   /* the last search: "contact-local" particles are the owned ones (0 .. nlocal-1, solver order)
      followed by the remote ones received from other ranks */
-  PetscInt                  nremote, *remote_natural;
-  PetscInt                  nremote_prev;             /* remote particles listed in natural_of */
-  PetscInt                 *tile_present, *tile_mark; /* per tile: its index among the present tiles of the search (-1: none); the query that last visited a present tile */
-  PetscInt                 *present_tiles, npresent_tiles, maxpresent_tiles;
-  PetscInt                  visit;
-  PetscInt                 *scratch_ids, *scratch_ij; /* room (scratch_room each) for the primitives of two tiles, their particles' grid positions and their boxes */
-  PetscInt                  scratch_room;
-  PetscReal                *scratch_boxes;
-  PetscInt                 *natural_of;                                            /* contact-local -> natural */
-  PetscInt                 *contact_index;                                         /* natural -> contact-local, -1 when not present (size N) */
-  PetscReal                *x, *dx;                                                /* contact-local positions at the search, displacements over the step */
-  PetscReal                *x0;                                                    /* contact-local positions when the candidates were found */
-  PetscReal                *dx0;                                                   /* the owned particles' displacements over the step then (3 nlocal) */
-  PetscInt                  nalloc;                                                /* contact-local particles natural_of, x, dx, x0 have room for */
-  Vec                       xremote, vremote, fremote, kvremote, bremote, wremote; /* bremote: body-contact normals; wremote: load vectors */
-  VecScatter                remote_scatter;                                        /* cloth state -> remote particles */
-  CellGrid                  tile_grid;                                             /* the cell grid of the tiles' boxes of the last search */
-  PetscInt                  ncontacts, maxcontacts;
-  ClothContact             *contacts; /* natural numbering */
-  PetscInt                 *local;    /* 4 contact-local indices per contact */
+  PetscInt      nremote, *remote_natural;
+  PetscInt      nremote_prev;             /* remote particles listed in natural_of */
+  PetscInt     *tile_present, *tile_mark; /* per tile: its index among the present tiles of the search (-1: none); the query that last visited a present tile */
+  PetscInt     *present_tiles, npresent_tiles, maxpresent_tiles;
+  PetscInt      visit;
+  PetscInt     *scratch_ids, *scratch_ij; /* room (scratch_room each) for the primitives of two tiles, their particles' grid positions and their boxes */
+  PetscInt      scratch_room;
+  PetscReal    *scratch_boxes;
+  PetscInt     *natural_of;                                            /* contact-local -> natural */
+  PetscInt     *contact_index;                                         /* natural -> contact-local, -1 when not present (size N) */
+  PetscReal    *x, *dx;                                                /* contact-local positions at the search, displacements over the step */
+  PetscReal    *x0;                                                    /* contact-local positions when the candidates were found */
+  PetscReal    *dx0;                                                   /* the owned particles' displacements over the step then (3 nlocal) */
+  PetscInt      nalloc;                                                /* contact-local particles natural_of, x, dx, x0 have room for */
+  Vec           xremote, vremote, fremote, kvremote, bremote, wremote; /* bremote: body-contact normals; wremote: load vectors */
+  VecScatter    remote_scatter;                                        /* cloth state -> remote particles */
+  CellGrid      tile_grid;                                             /* the cell grid of the tiles' boxes of the last search */
+  PetscInt      ncontacts, maxcontacts;
+  ClothContact *contacts; /* natural numbering */
+  PetscInt     *local;    /* 4 contact-local indices per contact */
 
   /* the candidates: every pair of primitives that comes within list_radius + 2 list_margin during the step at the
      positions x0 and displacements dx0 of their search (swept boxes). They hold every contact within list_radius for
@@ -106,9 +106,9 @@ struct _n_ClothSelfContact {
   PetscInt              builds;     /* statistics: searches that found candidates anew, candidates summed over them and the most at one (this rank) */
   PetscInt64            candidates_built;
   PetscInt              candidates_max;
-  PetscInt64            primitive_pairs_total; /* statistics: pairs of primitives given to the narrow phase, summed over searches */
+  PetscInt64            primitive_pairs_total;        /* statistics: pairs of primitives given to the narrow phase, summed over searches */
   PetscInt64            tile_pairs, tile_pairs_apart; /* statistics: pairs of tiles whose boxes overlapped, those proved apart */
-  PetscInt             *ring;                                          /* per piece: particles this many grid rings apart or closer never collide (SelfContactSetExclusionRings) */
+  PetscInt             *ring;                         /* per piece: particles this many grid rings apart or closer never collide (SelfContactSetExclusionRings) */
 
   /* the couplings of the last assembly (AddContactStiffness, MultCoupling): per contact with a share in it, its record */
   PetscInt             ncouplings, maxcouplings, *coupling_of, maxcoupling_of; /* coupling_of: contact -> record, -1: none */

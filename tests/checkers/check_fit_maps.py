@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Checks the fit maps of the last frame of a series against answers known without the simulator.
 
-  check_fit_maps.py pressure SERIES.h5 --expect P --rtol R [--min-contacts N]
+  check_fit_maps.py pressure SERIES.h5 --expect P --rtol R --min-contacts N
       every particle's contact pressure is P (N/m^2) within relative R, and at least N particles are in
       contact with a body (a sheet at rest on a flat table: P = areal mass x g)
   check_fit_maps.py stress SERIES.h5 --grid NU NV --column I --density RHO --gravity G --spacing DV --atol A
@@ -55,7 +55,7 @@ def main():
     p.add_argument("series")
     p.add_argument("--expect", type=float, required=True)
     p.add_argument("--rtol", type=float, required=True)
-    p.add_argument("--min-contacts", type=int, default=1)
+    p.add_argument("--min-contacts", type=int, required=True)
     s = sub.add_parser("stress")
     s.add_argument("series")
     s.add_argument("--grid", type=int, nargs=2, required=True)

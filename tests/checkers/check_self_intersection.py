@@ -1,7 +1,7 @@
 """Checks that the fabric never passes through itself: at every frame of an XDMF/HDF5 series written by
 clothsim, no fabric edge crosses a fabric triangle.
 
-  /usr/bin/python3 tests/checkers/check_self_intersection.py OUTPUT.h5 [--min-frames K]
+  /usr/bin/python3 tests/checkers/check_self_intersection.py OUTPUT.h5 --min-frames K
 
 The edge-triangle test is postprocess/fabric_crossings.py's (the one postprocess/garment_quality.py uses).
 Prints per-frame counts; exits non-zero on any crossing or on fewer than K frames."""
@@ -19,7 +19,7 @@ from fabric_crossings import crossings, primitives  # noqa: E402
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("h5")
-    parser.add_argument("--min-frames", type=int, default=2)
+    parser.add_argument("--min-frames", type=int, required=True)
     args = parser.parse_args()
     with h5py.File(args.h5, "r") as f:
         quads = f["topology/quads"][...].astype(np.int64)

@@ -2,7 +2,7 @@
 than radius + thickness - tolerance, and none is below the ground plane y = ground + thickness - tolerance.
 
   /usr/bin/python3 tests/checkers/check_sphere_clearance.py SERIES.h5 --center X Y Z --radius R --thickness T
-      --tolerance TOL [--ground Y] [--min-frames N]
+      --tolerance TOL [--ground Y] --min-frames N
 Prints the smallest clearance found (distance - radius - thickness; negative means inside the offset
 surface) and exits non-zero when a frame violates the tolerance."""
 import argparse
@@ -18,7 +18,7 @@ parser.add_argument("--radius", type=float, required=True)
 parser.add_argument("--thickness", type=float, required=True)
 parser.add_argument("--tolerance", type=float, required=True)
 parser.add_argument("--ground", type=float, default=None)
-parser.add_argument("--min-frames", type=int, default=2)
+parser.add_argument("--min-frames", type=int, required=True)
 args = parser.parse_args()
 
 worst_sphere, worst_ground, where = np.inf, np.inf, None

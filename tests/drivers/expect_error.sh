@@ -3,12 +3,14 @@
 #
 #   expect_error.sh [--status N] RANKS SCENE [TEXT...] [-- OPTION...]
 #
-# Runs "$CLOTHSIM -scene SCENE OPTION..." on RANKS ranks (mpiexec, or $MPIEXEC) and passes when it exits with a
-# non-zero code (N when --status is given or SCENE has a line "# status: N": 2 bad input, 3 file, 4 diverged;
-# see src/errors.h), without a crash, and its output (stdout + stderr) contains each TEXT given and each
+# Runs "$CLOTHSIM -scene SCENE OPTION..." on RANKS ranks (mpiexec, or $MPIEXEC) and passes when it exits with the
+# status N (2 bad input, 3 file, 4 diverged; see src/errors.h), without a crash, and its output (stdout + stderr) contains each TEXT given and each
 # "# expect: TEXT" line of SCENE (one per line, taken literally). An OPTION '' stands for the empty string. Without options the message must also name "scene SCENE" (every message about a scene
 # names the file). The error must be reported once, not once per rank, as one "ERROR: " line without PETSc's
 # traceback. Unless OPTION sets -output_dir, the run writes into a fresh temporary directory.
+# The status is required: N is --status N or, without it, the line "# status: N" of SCENE (the files of tests/bad_input/
+# have it, at their end where it moves no line number that a message names). Without either the test fails: a
+# refusal with the wrong status (a crash's, an abort's, a file error's for a bad value) is not a pass.
 set -u
 status_expected=""
 if [[ ${1:-} == --status ]]; then
@@ -42,7 +44,11 @@ scene_only=1
 for i in "${!options[@]}"; do [[ ${options[$i]} != "''" ]] || options[$i]=""; done
 if [[ -f $scene ]]; then
   while IFS= read -r line; do expected+=("$line"); done < <(sed -n 's/^# expect: //p' "$scene")
-  [[ -n $status_expected ]] || status_expected=$(sed -n 's/^# status: //p' "$scene")
+  [[ -n $status_expected ]] || status_expected=$(sed -n 's/^# status: *\([0-9][0-9]*\) *$/\1/p' "$scene")
+fi
+if ! [[ $status_expected =~ ^[0-9]+$ ]]; then
+  echo "FAIL ($scene on $ranks rank(s)): no expected exit status: give --status N or a line '# status: N' in the scene (got '$status_expected')"
+  exit 1
 fi
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
@@ -64,7 +70,7 @@ fail() {
 [[ $status -ne 0 ]] || fail "clothsim accepted a bad input"
 [[ $status -ne 124 ]] || fail "clothsim hung (killed after 120 s)"
 if grep -qE "Caught signal|Segmentation|core dumped" <<<"$output"; then fail "clothsim crashed instead of refusing the input"; fi
-[[ -z $status_expected || $status -eq $status_expected ]] || fail "exit status $status, expected $status_expected"
+[[ $status -eq $status_expected ]] || fail "exit status $status, expected $status_expected"
 for text in "${expected[@]}"; do
   grep -qF -- "$text" <<<"$output" || fail "the output lacks: $text"
 done

@@ -9,12 +9,14 @@
 # CLOTHSIM_OPTIONS (environment) holds further clothsim options, e.g. a shorter -t_final. FRAMES_SETTLED (environment),
 # with frames asked for in CLOTHSIM_OPTIONS (-output_every N), holds the arguments of tests/checkers/check_frames_settled.py:
 # no transient (fast particle, strained link) in any frame from a time on, which the final state alone does not show.
-#   bash tests/drivers/garment_coarse.sh SCENE ["NU NV=NU' NV'"...] [-- EXTRA garment_quality.py ARGS]   (CLOTHSIM: the binary)
+#   bash tests/drivers/garment_coarse.sh SCENE ["NU NV=NU' NV'"...] -- --ke-max J [EXTRA garment_quality.py ARGS]   (CLOTHSIM: the binary)
+# --ke-max is required: the kinetic energy below which the garment counts as at rest (garment.cmake: at most 10 times
+# the measured value).
 # The dress (input/dress.yaml; bodice 26 x 11 -> 26 x 6, straps 4 x 32 -> 4 x 16, skirt 33 x 25 -> 17 x 13:
 # 882 particles instead of 2,478) keeps its bodice's 25 cells across the top so that each strap end (4
 # nodes) still meets 4 bodice nodes (the shoulder seams' from/to).
 set -u
-[ $# -ge 1 ] || { echo "usage: $0 SCENE [\"NU NV=NU' NV'\"...] [-- garment_quality.py ARGS]"; exit 2; }
+[ $# -ge 1 ] || { echo "usage: $0 SCENE [\"NU NV=NU' NV'\"...] -- --ke-max J [garment_quality.py ARGS]"; exit 2; }
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 here=$(cd "$(dirname "$0")/../.." && pwd)
@@ -33,6 +35,12 @@ while [ $# -gt 0 ] && [ "$1" != "--" ]; do
   shift
 done
 [ "${1:-}" = "--" ] && shift
+# "At rest" is the test's own measured bound, not garment_quality.py's default of 1e-3 J (issue 8's target for the full
+# garments), which lies orders of magnitude above what a coarse garment reaches.
+case " $* " in
+  *" --ke-max "*) ;;
+  *) echo "FAIL: give --ke-max J among the garment_quality.py arguments (after --): at most 10 times the measured kinetic energy"; exit 1 ;;
+esac
 left=$(grep "grid: \[" "$coarse" | grep -vc "# coarse")
 [ "$grids" = 0 ] || [ "$left" = 0 ] || { echo "FAIL: $left grid(s) of $scene not made coarser: update the test's arguments"; exit 1; }
 read -r -a options <<< "${CLOTHSIM_OPTIONS:-}"

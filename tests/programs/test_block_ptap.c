@@ -105,7 +105,7 @@ int main(int argc, char **argv)
   ClothBlockPtAP     ptap[2] = {NULL, NULL};
   Mat                A, P[2] = {NULL, NULL}, C;
   Vec                rhs;
-  PetscInt           ratio = 4, nlevels, cstart, cend, nrows, sent = 0, expect_levels = 0;
+  PetscInt           ratio = 4, nlevels, cstart, cend, nrows, sent = 0, expect_levels;
   PetscReal          rel[2][2];
   PetscMPIInt        size;
   MatType            type, ctype;
@@ -115,7 +115,7 @@ int main(int argc, char **argv)
   PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
   PetscCallMPI(MPI_Comm_size(PETSC_COMM_WORLD, &size));
   PetscCall(PetscOptionsGetInt(NULL, NULL, "-ratio", &ratio, NULL));
-  PetscCall(PetscOptionsGetInt(NULL, NULL, "-expect_levels", &expect_levels, NULL));
+  PetscCall(TestGetExpectationInt("-expect_levels", &expect_levels));
   PetscCall(TestClothFromOptions(&scene, &cloth));
   PetscCall(TestPerturbState(cloth, 2026, 2e-3, 0.3));
   PetscCall(ClothCreateMatrix(cloth, MATBAIJ, &A));

@@ -4,7 +4,8 @@
    -expect_verified_at_least N   with -collision_verify, the grid and brute-force searches agreed on at least N
                                  crossings (a difference stops the run with an error at once);
    -expect_contacts_at_least N   at least N particles in contact at the last step (the cloth did land).
-   Any other -expect_* option is refused. Prints the measured counts on rank 0; they do not depend on the
+   Each is required (-expect_verified_at_least with -collision_verify, and only then): a missing one is an error,
+   not a check against a default. Any other -expect_* option is refused. Prints the measured counts on rank 0; they do not depend on the
    number of ranks. */
 #include "scene.h"
 #include "run.h"
@@ -16,12 +17,14 @@ int main(int argc, char **argv)
   ClothRun            run;
   ClothCollision      collision;
   ClothCollisionStats stats;
-  PetscInt            inside, inside_max = 0, verified_min = 0, contacts_min = 0;
+  PetscInt            inside, inside_max, verified_min = 0, contacts_min;
+  PetscBool           verify = PETSC_FALSE;
 
   PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
-  PetscCall(PetscOptionsGetInt(NULL, NULL, "-expect_inside_at_most", &inside_max, NULL));
-  PetscCall(PetscOptionsGetInt(NULL, NULL, "-expect_verified_at_least", &verified_min, NULL));
-  PetscCall(PetscOptionsGetInt(NULL, NULL, "-expect_contacts_at_least", &contacts_min, NULL));
+  PetscCall(TestGetExpectationInt("-expect_inside_at_most", &inside_max));
+  PetscCall(TestGetExpectationInt("-expect_contacts_at_least", &contacts_min));
+  PetscCall(PetscOptionsGetBool(NULL, NULL, "-collision_verify", &verify, NULL));
+  if (verify) PetscCall(TestGetExpectationInt("-expect_verified_at_least", &verified_min)); /* without -collision_verify nothing is verified: refused below as unused */
   PetscCall(TestCheckExpectationsUsed());
   PetscCall(TestRunFromOptions(&scene, &run));
   PetscCall(ClothRunGetCollision(run, &collision));

@@ -4,7 +4,7 @@
    (BAIJ, or SBAIJ with -implicit_mat_type sbaij) and the preconditioner set up from it. Checked:
    - the blocks: every joined block holds 2 to CLOTH_SEAM_BLOCK_MAX_PARTICLES owned particles, each of them sewn (a seam
      link joins it to another member); no seam link whose node and other-side nodes are all owned here was left with
-     all of them alone; at least -expect_min_joined particles are joined over all ranks;
+     all of them alone; at least -expect_min_joined (required) particles are joined over all ranks;
    - the product: y = B^{-1} r for a random r must equal, block by block, the solution of the block's dense system
      taken from an AIJ copy of the matrix (MatGetValues) by LAPACK's LU (gesv), not the preconditioner's Cholesky, to
      1e-10 relative; particles alone are their 3x3 blocks' solutions, joined ones their whole block's (which differs
@@ -102,11 +102,11 @@ int main(int argc, char **argv)
   PetscRandom        rnd;
   const PetscScalar *ra, *ya;
   const PetscInt    *start, *member;
-  PetscInt           expect_min_joined = 1, nlocal, rstart, nblocks, *block_of;
+  PetscInt           expect_min_joined, nlocal, rstart, nblocks, *block_of;
   PetscReal          d[4]              = {0, 0, 0, 0}; /* largest |y - z|, |z|, |z - z_alone| over joined particles */
 
   PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
-  PetscCall(PetscOptionsGetInt(NULL, NULL, "-expect_min_joined", &expect_min_joined, NULL));
+  PetscCall(TestGetExpectationInt("-expect_min_joined", &expect_min_joined));
   PetscCall(TestClothFromOptions(&scene, &cloth));
   PetscCall(TestPerturbState(cloth, 2027, 2e-3, 0.3));
   PetscCall(ClothCreateMatrix(cloth, MATBAIJ, &A));

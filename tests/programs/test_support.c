@@ -55,6 +55,26 @@ PetscErrorCode TestRunFromOptions(Scene *scene, ClothRun *run)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+PetscErrorCode TestGetExpectationInt(const char name[], PetscInt *value)
+{
+  PetscBool set;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsGetInt(NULL, NULL, name, value, &set));
+  PetscCheck(set, PETSC_COMM_WORLD, PETSC_ERR_USER_INPUT, "Give %s: this test's expectation has no default, so that a missing one cannot turn its check into one that always passes", name);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode TestGetExpectationReal(const char name[], PetscReal *value)
+{
+  PetscBool set;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsGetReal(NULL, NULL, name, value, &set));
+  PetscCheck(set, PETSC_COMM_WORLD, PETSC_ERR_USER_INPUT, "Give %s: this test's expectation has no default, so that a missing one cannot turn its check into one that always passes", name);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode TestCheckExpectationsUsed(void)
 {
   PetscInt N;
