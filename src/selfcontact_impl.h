@@ -78,7 +78,7 @@ struct _n_ClothSelfContact {
   PetscInt     *tile_present, *tile_mark; /* per tile: its index among the present tiles of the search (-1: none); the query that last visited a present tile */
   PetscInt     *present_tiles, npresent_tiles, maxpresent_tiles;
   PetscInt      visit;
-  PetscInt     *scratch_ids, *scratch_ij; /* room (scratch_room each) for the primitives of two tiles, their particles' grid positions and their boxes */
+  PetscInt     *scratch_ids, *scratch_ij; /* room (scratch_room each) for the triangles and edges of two tiles, their particles' grid positions and their boxes */
   PetscInt      scratch_room;
   PetscReal    *scratch_boxes;
   PetscInt     *natural_of;                                            /* contact-local -> natural */

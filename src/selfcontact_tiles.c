@@ -106,7 +106,7 @@ PetscErrorCode SelfContactBuildTiles(ClothSelfContact sc, Scene scene, ClothMode
   n = 0;
   for (PetscInt t = 0; t < sc->ntiles; t++) n = PetscMax(n, PetscMax(sc->tile_tri_start[t + 1] - sc->tile_tri_start[t], sc->tile_edge_start[t + 1] - sc->tile_edge_start[t]));
   sc->scratch_room = n + 1;
-  PetscCall(PetscMalloc3(2 * sc->scratch_room, &sc->scratch_ids, 12 * sc->scratch_room, &sc->scratch_ij, 12 * sc->scratch_room, &sc->scratch_boxes)); /* two tiles' primitives */
+  PetscCall(PetscMalloc3(4 * sc->scratch_room, &sc->scratch_ids, 24 * sc->scratch_room, &sc->scratch_ij, 24 * sc->scratch_room, &sc->scratch_boxes)); /* two tiles' triangles and edges */
   for (PetscInt t = 0; t < sc->ntiles; t++) sc->tile_present[t] = -1, sc->tile_mark[t] = 0;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -430,35 +430,37 @@ static PetscErrorCode PairEdges(ClothSelfContact sc, PetscInt P, PetscInt Q, con
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* Gives the narrow phase (SelfContactTestPair within rho) every pair of primitives of tiles P and Q (each pair once)
-   that this rank handles, that the exclusion ring allows and whose boxes over the step relative to u (the two tiles'
-   mean displacement), inflated so that together they reach rho, overlap. */
-static PetscErrorCode PairTiles(ClothSelfContact sc, PetscInt P, PetscInt Q, const PetscReal u[3], PetscReal rho)
+/* The present triangles and edges of tile t, their boxes swept relative to u, into the scratch slots slot (triangles)
+   and slot + 1 (edges). */
+static void GatherTile(ClothSelfContact sc, PetscInt t, PetscReal rho, const PetscReal u[3], PetscInt slot, TilePrimitives *tri, TilePrimitives *edge)
 {
   const PetscInt room = sc->scratch_room;
-  TilePrimitives a, b;
 
-  PetscFunctionBeginUser;
-  GatherTilePrimitives(sc, Q, 3, sc->tri, sc->tile_tri_start, sc->tile_tri_of, rho, u, sc->scratch_ids, sc->scratch_ij, sc->scratch_boxes, &b);
-  PetscCall(PairPointsWithTriangles(sc, P, Q, u, &b, rho));
-  if (Q != P) {
-    GatherTilePrimitives(sc, P, 3, sc->tri, sc->tile_tri_start, sc->tile_tri_of, rho, u, sc->scratch_ids, sc->scratch_ij, sc->scratch_boxes, &a);
-    PetscCall(PairPointsWithTriangles(sc, Q, P, u, &a, rho));
-  }
-  GatherTilePrimitives(sc, P, 2, sc->edge, sc->tile_edge_start, sc->tile_edge_of, 0.5 * rho, u, sc->scratch_ids, sc->scratch_ij, sc->scratch_boxes, &a);
-  if (Q != P) GatherTilePrimitives(sc, Q, 2, sc->edge, sc->tile_edge_start, sc->tile_edge_of, 0.5 * rho, u, sc->scratch_ids + room, sc->scratch_ij + 6 * room, sc->scratch_boxes + 6 * room, &b);
-  PetscCall(PairEdges(sc, P, Q, &a, Q != P ? &b : &a, rho));
-  PetscFunctionReturn(PETSC_SUCCESS);
+  GatherTilePrimitives(sc, t, 3, sc->tri, sc->tile_tri_start, sc->tile_tri_of, rho, u, sc->scratch_ids + slot * room, sc->scratch_ij + 6 * slot * room, sc->scratch_boxes + 6 * slot * room, tri);
+  slot++;
+  GatherTilePrimitives(sc, t, 2, sc->edge, sc->tile_edge_start, sc->tile_edge_of, 0.5 * rho, u, sc->scratch_ids + slot * room, sc->scratch_ij + 6 * slot * room, sc->scratch_boxes + 6 * slot * room, edge);
 }
 
-/* The pairs of primitives of present tiles s1 and s2 (PairTiles, relative to their mean displacement). */
-static PetscErrorCode PairsOfTiles(ClothSelfContact sc, const SelfContactTileState *s1, const SelfContactTileState *s2, PetscReal rho)
+/* Gives the narrow phase (SelfContactTestPair within rho) every pair of primitives of tiles P and Q (each pair once)
+   that this rank handles, that the exclusion ring allows and whose boxes over the step relative to u, inflated so
+   that together they reach rho, overlap. P's triangles and edges are given, gathered relative to u (GatherTile, slots
+   0 and 1: P's own mean displacement, so that a tile gathers its primitives once for all its neighbours); Q's are
+   gathered here relative to the same u. Any displacement common to both tiles serves: only their relative motion
+   counts. */
+static PetscErrorCode PairTiles(ClothSelfContact sc, PetscInt P, PetscInt Q, const PetscReal u[3], const TilePrimitives *ptri, const TilePrimitives *pedge, PetscReal rho)
 {
-  const SelfContactTileState *a = s1->tile <= s2->tile ? s1 : s2, *b = s1->tile <= s2->tile ? s2 : s1;
-  const PetscReal             u[3] = {0.5 * (a->mdx[0] + b->mdx[0]), 0.5 * (a->mdx[1] + b->mdx[1]), 0.5 * (a->mdx[2] + b->mdx[2])};
+  TilePrimitives qtri, qedge;
 
   PetscFunctionBeginUser;
-  PetscCall(PairTiles(sc, a->tile, b->tile, u, rho));
+  if (Q == P) {
+    PetscCall(PairPointsWithTriangles(sc, P, P, u, ptri, rho));
+    PetscCall(PairEdges(sc, P, P, pedge, pedge, rho));
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
+  GatherTile(sc, Q, rho, u, 2, &qtri, &qedge);
+  PetscCall(PairPointsWithTriangles(sc, P, Q, u, &qtri, rho));
+  PetscCall(PairPointsWithTriangles(sc, Q, P, u, ptri, rho));
+  PetscCall(PairEdges(sc, P, Q, pedge, &qedge, rho));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -483,7 +485,7 @@ static PetscErrorCode PresentTiles(ClothSelfContact sc, PetscReal rho, PetscInt 
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* The pairs of present tiles whose boxes overlap, found on a cell grid of the boxes, each given to PairsOfTiles unless
+/* The pairs of present tiles whose boxes overlap, found on a cell grid of the boxes, each given to PairTiles unless
    neither holds anything of this rank's or TilesApart proves it holds nothing. */
 static PetscErrorCode VisitTilePairs(ClothSelfContact sc, const SelfContactTileState *state, const PetscReal *boxes, PetscInt n, const PetscReal region[6], PetscReal rho)
 {
@@ -499,7 +501,10 @@ static PetscErrorCode VisitTilePairs(ClothSelfContact sc, const SelfContactTileS
   PetscCall(CellGridBuild(sc->tile_grid, region, region + 3, cell, 8 * n + 64, n, boxes, boxes + 3, 6));
   CellGridGetCells(sc->tile_grid, ncell, &start, &item);
   for (PetscInt a = 0; a < n; a++) {
-    const SelfContactTile *P = &sc->tiles[state[a].tile];
+    const SelfContactTile *P        = &sc->tiles[state[a].tile];
+    PetscBool              gathered = PETSC_FALSE; /* a's primitives, relative to its mean displacement */
+    TilePrimitives         ptri, pedge;
+
     CellGridGetCellRange(sc->tile_grid, &boxes[6 * a], &boxes[6 * a + 3], lo, hi);
     sc->visit++;
     for (PetscInt i = lo[0]; i <= hi[0]; i++)
@@ -519,7 +524,9 @@ static PetscErrorCode VisitTilePairs(ClothSelfContact sc, const SelfContactTileS
               sc->tile_pairs_apart++;
               continue;
             }
-            PetscCall(PairsOfTiles(sc, &state[a], &state[b], rho));
+            if (!gathered) GatherTile(sc, state[a].tile, rho, state[a].mdx, 0, &ptri, &pedge);
+            gathered = PETSC_TRUE;
+            PetscCall(PairTiles(sc, state[a].tile, state[b].tile, state[a].mdx, &ptri, &pedge, rho));
           }
         }
   }
