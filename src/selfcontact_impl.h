@@ -1,7 +1,7 @@
 /* The private part of ClothSelfContact, shared by its three files: src/selfcontact_search.c (static topology, the
    exchange of particles near other ranks, the candidates and contacts and their brute-force reference),
    src/selfcontact_tiles.c (the broad phase: tiles of the pattern grids, pairs of tiles near each other and their pairs
-   of primitives, kept over steps) and src/selfcontact.c (the response: matrix pattern, repulsion, velocity filter,
+   of primitives, handed to the narrow phase) and src/selfcontact.c (the response: matrix pattern, repulsion, velocity filter,
    and the object). */
 #pragma once
 #include "selfcontact.h"
